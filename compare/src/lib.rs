@@ -1,0 +1,1 @@
+//! FE-versus-spectral comparison harness.

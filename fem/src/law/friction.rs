@@ -1,0 +1,1 @@
+//! Regularised Coulomb friction, paper eq. (8): explicit return map (stick/slip); pure.

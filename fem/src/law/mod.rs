@@ -1,0 +1,4 @@
+//! Pure constitutive laws: (params, inputs, old state) -> (output, new state).
+
+pub(crate) mod friction;
+pub(crate) mod penalty;

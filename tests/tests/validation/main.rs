@@ -1,0 +1,9 @@
+//! One test binary, one module per physical claim (style.md). Each model's modules are
+//! behind that model's feature so one can be built while the other is being edited; the
+//! README's test command builds them all.
+
+// ---- spectral claims (issue: spectral) ----
+
+// ---- fem claims (issue: fem) ----
+
+// ---- compare claims (issue: compare) ----
