@@ -1,0 +1,158 @@
+//! Lining two crack-tip histories up: time shift, crossing times, resampling, tip speed. Pure.
+//!
+//! Both models report the right and left crack tips of a centre crack loaded symmetrically
+//! (the problem is invariant under a 180° rotation about the crack centre), so the harness
+//! works with the crack half-length ℓ(t) = (x_right − x_left)/2 [m], the mean of the two tips'
+//! distances to the centre. It halves the grid quantisation noise of either tip.
+
+use serde::{Deserialize, Serialize};
+
+/// One sample of a model's crack-tip history, exactly the columns of `fem_mu*.csv` and
+/// `spectral_mu*.csv`: time [s] (unshifted), tip and cohesive-zone-tip x coordinates [m].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct TipRow {
+    /// Time [s], as the model reports it (no shift).
+    pub t: f64,
+    /// Right crack tip (fully broken) x [m].
+    pub tip_right: f64,
+    /// Left crack tip (fully broken) x [m].
+    pub tip_left: f64,
+    /// Right cohesive-zone tip x [m].
+    pub cz_tip_right: f64,
+    /// Left cohesive-zone tip x [m].
+    pub cz_tip_left: f64,
+}
+
+/// A sampled scalar history y(t); times strictly increasing.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Series {
+    /// Times [s].
+    pub t: Vec<f64>,
+    /// Values (unit of the quantity).
+    pub y: Vec<f64>,
+}
+
+impl Series {
+    /// Crack half-length ℓ = (tip_right − tip_left)/2 [m] of a tip history.
+    pub fn half_length(rows: &[TipRow]) -> Series {
+        Series {
+            t: rows.iter().map(|r| r.t).collect(),
+            y: rows.iter().map(|r| 0.5 * (r.tip_right - r.tip_left)).collect(),
+        }
+    }
+
+    /// The same history with every time moved by `dt` [s] (t → t + dt).
+    pub fn shifted(&self, dt: f64) -> Series {
+        Series {
+            t: self.t.iter().map(|t| t + dt).collect(),
+            y: self.y.clone(),
+        }
+    }
+
+    /// First time [s] at which y reaches `level` (y(t) ≥ level), linearly interpolated between
+    /// the two samples that bracket it; `None` if it never does.
+    pub fn first_crossing(&self, level: f64) -> Option<f64> {
+        let i = self.y.iter().position(|&y| y >= level)?;
+        if i == 0 {
+            return Some(self.t[0]);
+        }
+        let (t0, t1, y0, y1) = (self.t[i - 1], self.t[i], self.y[i - 1], self.y[i]);
+        Some(t0 + (t1 - t0) * (level - y0) / (y1 - y0))
+    }
+
+    /// Linear interpolation of y at time `t` [s]; `None` outside the sampled range.
+    pub fn at(&self, t: f64) -> Option<f64> {
+        let n = self.t.len();
+        if n == 0 || t < self.t[0] || t > self.t[n - 1] {
+            return None;
+        }
+        let j = self.t.partition_point(|&s| s <= t).clamp(1, n - 1);
+        let (t0, t1) = (self.t[j - 1], self.t[j]);
+        let w = if t1 > t0 { (t - t0) / (t1 - t0) } else { 0.0 };
+        Some(self.y[j - 1] + w * (self.y[j] - self.y[j - 1]))
+    }
+
+    /// Local least-squares slope dy/dt over ±`half_window` samples (fewer at the ends).
+    /// Crack tips move one facet or grid point at a time, so raw differences are useless;
+    /// a window of a few h/c_R gives a usable speed (fem-method §8).
+    pub fn slope(&self, half_window: usize) -> Series {
+        let n = self.t.len();
+        let y = (0..n)
+            .map(|i| {
+                let lo = i.saturating_sub(half_window);
+                let hi = (i + half_window + 1).min(n);
+                least_squares_slope(&self.t[lo..hi], &self.y[lo..hi])
+            })
+            .collect();
+        Series { t: self.t.clone(), y }
+    }
+}
+
+/// Slope of the least-squares line through (t, y); 0 for fewer than two distinct times.
+fn least_squares_slope(t: &[f64], y: &[f64]) -> f64 {
+    let n = t.len() as f64;
+    let tm = t.iter().sum::<f64>() / n;
+    let ym = y.iter().sum::<f64>() / n;
+    let (mut sty, mut stt) = (0.0, 0.0);
+    for (&ti, &yi) in t.iter().zip(y) {
+        sty += (ti - tm) * (yi - ym);
+        stt += (ti - tm) * (ti - tm);
+    }
+    if stt > 0.0 { sty / stt } else { 0.0 }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ramp() -> Series {
+        // y = 0 until t = 1, then y = 2 (t − 1).
+        let t: Vec<f64> = (0..=30).map(|i| i as f64 * 0.1).collect();
+        let y = t.iter().map(|&t| (2.0 * (t - 1.0)).max(0.0)).collect();
+        Series { t, y }
+    }
+
+    #[test]
+    fn crossing_is_interpolated_between_samples() {
+        let s = ramp();
+        let tc = s.first_crossing(0.45).unwrap();
+        assert!((tc - 1.225).abs() < 1e-12, "{tc}");
+        assert_eq!(s.first_crossing(100.0), None);
+    }
+
+    #[test]
+    fn shift_moves_crossings_by_the_shift() {
+        let s = ramp();
+        let a = s.first_crossing(1.0).unwrap();
+        let b = s.shifted(0.25).first_crossing(1.0).unwrap();
+        assert!((b - a - 0.25).abs() < 1e-12);
+    }
+
+    #[test]
+    fn interpolation_is_exact_on_linear_data_and_none_outside() {
+        let s = ramp();
+        assert!((s.at(2.05).unwrap() - 2.1).abs() < 1e-12);
+        assert_eq!(s.at(-0.1), None);
+        assert_eq!(s.at(3.5), None);
+    }
+
+    #[test]
+    fn slope_recovers_a_constant_speed() {
+        let s = ramp();
+        let v = s.slope(3);
+        assert!((v.y[25] - 2.0).abs() < 1e-9);
+        assert!(v.y[2].abs() < 1e-12);
+    }
+
+    #[test]
+    fn half_length_is_the_mean_distance_of_the_tips() {
+        let r = TipRow {
+            t: 0.0,
+            tip_right: 0.3,
+            tip_left: -0.1,
+            cz_tip_right: 0.3,
+            cz_tip_left: -0.1,
+        };
+        assert!((Series::half_length(&[r]).y[0] - 0.2).abs() < 1e-15);
+    }
+}

@@ -1,0 +1,355 @@
+//! PNG plots with plotters and a bundled font (DejaVu Sans through the `dejavu` crate and
+//! plotters' `ab_glyph` backend), so they render on a machine with no system fonts.
+//! Draws what it is given; computes nothing.
+
+use anyhow::{Context, Result, anyhow};
+use plotters::prelude::*;
+use plotters::style::FontStyle;
+use std::path::Path;
+
+const SIZE: (u32, u32) = (1000, 700);
+const FONT: &str = "sans-serif";
+
+/// Registers the bundled font with plotters (idempotent; cheap).
+fn register_font() -> Result<()> {
+    plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular())
+        .map_err(|_| anyhow!("the bundled DejaVu Sans font did not parse"))
+}
+
+/// Line style of a curve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Dash {
+    /// Solid line.
+    Solid,
+    /// Dashed line.
+    Dashed,
+}
+
+/// One curve of a line chart.
+#[derive(Debug, Clone)]
+pub struct Curve {
+    /// Legend label.
+    pub label: String,
+    /// (x, y) points in axis units.
+    pub points: Vec<(f64, f64)>,
+    /// Colour.
+    pub color: RGBColor,
+    /// Solid or dashed.
+    pub dash: Dash,
+}
+
+/// A vertical or horizontal reference line (not in the legend unless labelled).
+#[derive(Debug, Clone)]
+pub enum Mark {
+    /// x = value.
+    Vertical(f64, RGBColor),
+    /// y = value, with a legend label.
+    Horizontal(f64, RGBColor, String),
+}
+
+/// Titles and axis labels (with units) of a chart.
+#[derive(Debug, Clone, Copy)]
+pub struct Labels<'a> {
+    /// Chart title.
+    pub title: &'a str,
+    /// x-axis label with unit.
+    pub x: &'a str,
+    /// y-axis label with unit.
+    pub y: &'a str,
+}
+
+/// Palette for curves (colour-blind friendly order).
+pub const PALETTE: [RGBColor; 6] = [
+    RGBColor(0, 114, 178),
+    RGBColor(213, 94, 0),
+    RGBColor(0, 158, 115),
+    RGBColor(204, 121, 167),
+    RGBColor(86, 180, 233),
+    RGBColor(230, 159, 0),
+];
+
+fn bounds(curves: &[Curve], marks: &[Mark]) -> ((f64, f64), (f64, f64)) {
+    let pts = curves
+        .iter()
+        .flat_map(|c| c.points.iter())
+        .filter(|p| p.0.is_finite() && p.1.is_finite());
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for &(x, y) in pts {
+        (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+    }
+    for m in marks {
+        match m {
+            Mark::Vertical(x, _) => (x0, x1) = (x0.min(*x), x1.max(*x)),
+            Mark::Horizontal(y, _, _) => (y0, y1) = (y0.min(*y), y1.max(*y)),
+        }
+    }
+    if x0 > x1 {
+        return ((0.0, 1.0), (0.0, 1.0));
+    }
+    let pad = |a: f64, b: f64| {
+        let d = if b > a {
+            0.04 * (b - a)
+        } else {
+            0.5 * a.abs().max(1e-12)
+        };
+        (a - d, b + d)
+    };
+    (pad(x0, x1), pad(y0, y1))
+}
+
+/// Draws a line chart with a legend to `path` (PNG).
+pub fn line_chart(path: &Path, labels: Labels, curves: &[Curve], marks: &[Mark]) -> Result<()> {
+    register_font()?;
+    let ((x0, x1), (y0, y1)) = bounds(curves, marks);
+    let root = BitMapBackend::new(path, SIZE).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(labels.title, (FONT, 26))
+        .margin(15)
+        .x_label_area_size(55)
+        .y_label_area_size(85)
+        .build_cartesian_2d(x0..x1, y0..y1)?;
+    chart
+        .configure_mesh()
+        .x_desc(labels.x)
+        .y_desc(labels.y)
+        .label_style((FONT, 16))
+        .axis_desc_style((FONT, 20))
+        .draw()?;
+    for c in curves {
+        let style = ShapeStyle::from(&c.color).stroke_width(2);
+        let pts = c
+            .points
+            .iter()
+            .copied()
+            .filter(|p| p.0.is_finite() && p.1.is_finite());
+        let color = c.color;
+        let anno = match c.dash {
+            Dash::Solid => chart.draw_series(LineSeries::new(pts, style))?,
+            Dash::Dashed => chart.draw_series(DashedLineSeries::new(pts, 8, 5, style))?,
+        };
+        anno.label(c.label.clone())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
+    }
+    for m in marks {
+        match m {
+            Mark::Vertical(x, color) => {
+                let pts = vec![(*x, y0), (*x, y1)];
+                chart.draw_series(DashedLineSeries::new(pts, 4, 4, color.stroke_width(1)))?;
+            }
+            Mark::Horizontal(y, color, label) => {
+                let color = *color;
+                let pts = vec![(x0, *y), (x1, *y)];
+                chart
+                    .draw_series(DashedLineSeries::new(pts, 4, 4, color.stroke_width(1)))?
+                    .label(label.clone())
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(1)));
+            }
+        }
+    }
+    chart
+        .configure_series_labels()
+        .label_font((FONT, 16))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .position(SeriesLabelPosition::UpperLeft)
+        .draw()?;
+    root.present()
+        .with_context(|| format!("writing {}", path.display()))
+}
+
+/// A space-time field sampled on a regular grid: `values[i_t][i_x]`, NaN where undefined.
+#[derive(Debug, Clone)]
+pub struct Field {
+    /// Cell-centre positions along x (axis units), increasing.
+    pub x: Vec<f64>,
+    /// Cell-centre times (axis units), increasing.
+    pub t: Vec<f64>,
+    /// Values per time row, one per x.
+    pub values: Vec<Vec<f64>>,
+}
+
+/// Colour scale of a space-time diagram: value range and the colorbar label.
+#[derive(Debug, Clone)]
+pub struct Scale {
+    /// Value mapped to the bottom of the colour map.
+    pub min: f64,
+    /// Value mapped to the top of the colour map.
+    pub max: f64,
+    /// Colorbar label with unit.
+    pub label: String,
+}
+
+fn colour(v: f64, s: &Scale) -> RGBColor {
+    if !v.is_finite() {
+        return RGBColor(235, 235, 235);
+    }
+    let f = ((v - s.min) / (s.max - s.min)).clamp(0.0, 1.0);
+    ViridisRGB::get_color(f)
+}
+
+/// Draws a space-time diagram (x horizontal, t vertical) with a colour bar to `path` (PNG).
+pub fn space_time(path: &Path, labels: Labels, field: &Field, scale: &Scale) -> Result<()> {
+    let (nx, nt) = (field.x.len(), field.t.len());
+    if nx < 2 || nt < 2 {
+        return Err(anyhow!(
+            "{}: a space-time diagram needs at least 2 × 2 samples",
+            path.display()
+        ));
+    }
+    register_font()?;
+    let root = BitMapBackend::new(path, SIZE).into_drawing_area();
+    root.fill(&WHITE)?;
+    let (main, bar) = root.split_horizontally(SIZE.0 - 130);
+    let half = |v: &[f64], i: usize| {
+        let (lo, hi) = (i.saturating_sub(1), (i + 1).min(v.len() - 1));
+        0.5 * (v[hi] - v[lo]) / (hi - lo) as f64
+    };
+    let (x0, x1) = (
+        field.x[0] - half(&field.x, 0),
+        field.x[nx - 1] + half(&field.x, nx - 1),
+    );
+    let (t0, t1) = (
+        field.t[0] - half(&field.t, 0),
+        field.t[nt - 1] + half(&field.t, nt - 1),
+    );
+    let mut chart = ChartBuilder::on(&main)
+        .caption(labels.title, (FONT, 26))
+        .margin(15)
+        .x_label_area_size(55)
+        .y_label_area_size(75)
+        .build_cartesian_2d(x0..x1, t0..t1)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc(labels.x)
+        .y_desc(labels.y)
+        .label_style((FONT, 16))
+        .axis_desc_style((FONT, 20))
+        .draw()?;
+    let cells = field.values.iter().enumerate().flat_map(|(it, row)| {
+        row.iter().enumerate().map(move |(ix, &v)| {
+            let (hx, ht) = (half(&field.x, ix), half(&field.t, it));
+            let (x, t) = (field.x[ix], field.t[it]);
+            Rectangle::new([(x - hx, t - ht), (x + hx, t + ht)], colour(v, scale).filled())
+        })
+    });
+    chart.draw_series(cells)?;
+    draw_colour_bar(&bar, scale)?;
+    root.present()
+        .with_context(|| format!("writing {}", path.display()))
+}
+
+fn draw_colour_bar(area: &DrawingArea<BitMapBackend, plotters::coord::Shift>, s: &Scale) -> Result<()> {
+    let mut bar = ChartBuilder::on(area)
+        .margin_top(60)
+        .margin_bottom(70)
+        .margin_right(10)
+        .y_label_area_size(70)
+        .build_cartesian_2d(0.0..1.0, s.min..s.max)?;
+    bar.configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_desc(s.label.as_str())
+        .label_style((FONT, 14))
+        .axis_desc_style((FONT, 16))
+        .draw()?;
+    let n = 100;
+    let step = (s.max - s.min) / n as f64;
+    bar.draw_series((0..n).map(|i| {
+        let v = s.min + (i as f64 + 0.5) * step;
+        Rectangle::new(
+            [
+                (0.0, s.min + i as f64 * step),
+                (1.0, s.min + (i + 1) as f64 * step),
+            ],
+            colour(v, s).filled(),
+        )
+    }))?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tmp(name: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("compare-plot-test-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        dir.join(name)
+    }
+
+    #[test]
+    fn line_chart_renders_with_the_bundled_font() {
+        let p = tmp("line.png");
+        let c = Curve {
+            label: "test".into(),
+            points: (0..50).map(|i| (i as f64, (i as f64 * 0.1).sin())).collect(),
+            color: PALETTE[0],
+            dash: Dash::Dashed,
+        };
+        let marks = [
+            Mark::Vertical(10.0, BLACK),
+            Mark::Horizontal(0.5, RED, "ref".into()),
+        ];
+        line_chart(
+            &p,
+            Labels {
+                title: "t",
+                x: "x [m]",
+                y: "y [-]",
+            },
+            &[c],
+            &marks,
+        )
+        .unwrap();
+        assert!(std::fs::metadata(&p).unwrap().len() > 1000);
+    }
+
+    #[test]
+    fn space_time_renders_and_rejects_degenerate_fields() {
+        let p = tmp("st.png");
+        let f = Field {
+            x: (0..20).map(|i| i as f64).collect(),
+            t: (0..10).map(|i| i as f64).collect(),
+            values: (0..10)
+                .map(|i| (0..20).map(|j| (i * j) as f64).collect())
+                .collect(),
+        };
+        let s = Scale {
+            min: 0.0,
+            max: 171.0,
+            label: "v [-]".into(),
+        };
+        space_time(
+            &p,
+            Labels {
+                title: "st",
+                x: "x [m]",
+                y: "t [s]",
+            },
+            &f,
+            &s,
+        )
+        .unwrap();
+        assert!(std::fs::metadata(&p).unwrap().len() > 1000);
+        let g = Field {
+            x: vec![0.0],
+            t: vec![0.0],
+            values: vec![vec![1.0]],
+        };
+        assert!(
+            space_time(
+                &p,
+                Labels {
+                    title: "st",
+                    x: "x",
+                    y: "t"
+                },
+                &g,
+                &s
+            )
+            .is_err()
+        );
+    }
+}
