@@ -4,4 +4,6 @@
 
 pub mod align;
 pub mod metrics;
+pub mod output;
 pub mod plot;
+pub mod scene;

@@ -1,0 +1,71 @@
+//! CSV files of the harness, with the exact names and headers the README documents.
+
+use crate::align::TipRow;
+use crate::metrics::Verdict;
+use anyhow::{Context, Result};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// File-name form of a friction coefficient: `0` for 0.0, `0.3` for 0.3.
+pub fn mu_tag(mu: f64) -> String {
+    format!("{mu}")
+}
+
+/// Writes `rows` as CSV with a header from the record's field names.
+pub fn write_rows<R: Serialize>(path: &Path, rows: &[R]) -> Result<PathBuf> {
+    let mut w = csv::Writer::from_path(path).with_context(|| format!("creating {}", path.display()))?;
+    for r in rows {
+        w.serialize(r)?;
+    }
+    w.flush().with_context(|| format!("writing {}", path.display()))?;
+    Ok(path.to_path_buf())
+}
+
+/// `<model>_mu<μ>.csv` with header `t,tip_right,tip_left,cz_tip_right,cz_tip_left`.
+pub fn write_tips(dir: &Path, model: &str, mu: f64, rows: &[TipRow]) -> Result<PathBuf> {
+    write_rows(&dir.join(format!("{model}_mu{}.csv", mu_tag(mu))), rows)
+}
+
+/// `metrics.csv` with header `metric,mu,value,tolerance,pass`.
+pub fn write_metrics(dir: &Path, verdicts: &[Verdict]) -> Result<PathBuf> {
+    write_rows(&dir.join("metrics.csv"), verdicts)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn headers_and_names_are_the_documented_ones() {
+        let dir = std::env::temp_dir().join(format!("compare-output-test-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let row = TipRow {
+            t: 0.0,
+            tip_right: 0.125,
+            tip_left: -0.125,
+            cz_tip_right: 0.13,
+            cz_tip_left: -0.13,
+        };
+        let p = write_tips(&dir, "fem", 0.0, &[row]).unwrap();
+        assert!(p.ends_with("fem_mu0.csv"));
+        let text = std::fs::read_to_string(&p).unwrap();
+        assert!(
+            text.starts_with("t,tip_right,tip_left,cz_tip_right,cz_tip_left\n"),
+            "{text}"
+        );
+        assert!(
+            write_tips(&dir, "spectral", 0.3, &[row])
+                .unwrap()
+                .ends_with("spectral_mu0.3.csv")
+        );
+        let v = Verdict {
+            metric: "m",
+            mu: "0.3".into(),
+            value: 0.5,
+            tolerance: "<= 1".into(),
+            pass: true,
+        };
+        let text = std::fs::read_to_string(write_metrics(&dir, &[v]).unwrap()).unwrap();
+        assert!(text.starts_with("metric,mu,value,tolerance,pass\n"), "{text}");
+    }
+}
