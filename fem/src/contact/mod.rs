@@ -1,1 +1,241 @@
 //! Node-to-segment penalty contact with regularised Coulomb friction (paper Section 2, eqs. 5-10, Algorithm 1).
+//!
+//! Interface: `docs/fem-contact-api.md`. Detection (`search`) and resolution (`forces`) are split
+//! as in Akantu; `geometry` is the pure projection. Every node of Γ_det is a slave and every
+//! segment a master (no master/slave bias); forces are averaged with w = ½ (Algorithm 1).
+
+pub(crate) mod forces;
+pub(crate) mod geometry;
+pub(crate) mod search;
+#[cfg(test)]
+mod tests;
+
+use nalgebra::Vector2;
+
+use crate::law::friction::Friction;
+use forces::{SlaveHistory, node_geometry, respond, scatter};
+use search::{BucketGrid, Limits, Slave, closest_master};
+
+/// Parameters of the contact pass (fem-method §5).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct ContactParams {
+    /// Normal penalty ε_n [Pa/m] (traction per penetration; paper eq. 8; fem-method §5.2).
+    pub eps_n: f64,
+    /// Tangential penalty ε_t [Pa/m].
+    pub eps_t: f64,
+    /// Coulomb coefficient μ [-].
+    pub friction_coeff: f64,
+    /// Detection-distance limit d_max [m]: candidates with |g| > d_max are ignored (paper: h_min).
+    pub max_gap: f64,
+    /// Projection tolerance ε_ext [-]: accept −1 − ε_ext ≤ ξ ≤ 1 + ε_ext (default 1e-3).
+    pub projection_tolerance: f64,
+}
+
+/// Γ_det (paper eq. 10): segments (j1, j2) stored in the counter-clockwise order of their single
+/// owning bulk element, so the outward normal is n_e = (t_y, −t_x).
+#[derive(Debug, Clone)]
+pub(crate) struct DetectionSurface {
+    /// Segments (j1, j2), owner counter-clockwise.
+    segments: Vec<[u32; 2]>,
+    /// N_det: nodes of the segments, each once, in order of first appearance.
+    nodes: Vec<u32>,
+    /// Membership flag of N_det, per node of the mesh.
+    is_node: Vec<bool>,
+}
+
+impl DetectionSurface {
+    /// Empty surface for a mesh of `num_nodes` nodes with room for `max_segments` segments: all that
+    /// can ever be added (declared free faces + both copies of every interface facet), so
+    /// `add_segment` never allocates inside the time loop.
+    pub fn with_capacity(num_nodes: usize, max_segments: usize) -> Self {
+        Self {
+            segments: Vec::with_capacity(max_segments),
+            nodes: Vec::with_capacity(num_nodes.min(2 * max_segments)),
+            is_node: vec![false; num_nodes],
+        }
+    }
+
+    /// Adds one segment; an inserted cohesive facet adds its + copy and its − copy (two calls).
+    /// Beyond the capacity given to `with_capacity` it still works, at the cost of an allocation.
+    pub fn add_segment(&mut self, j1: u32, j2: u32) {
+        self.segments.push([j1, j2]);
+        for j in [j1, j2] {
+            let Some(flag) = self.is_node.get_mut(j as usize) else {
+                continue;
+            };
+            if !*flag {
+                *flag = true;
+                self.nodes.push(j);
+            }
+        }
+    }
+
+    /// Number of segments in Γ_det.
+    pub fn num_segments(&self) -> usize {
+        self.segments.len()
+    }
+
+    /// Nodes of Γ_det (N_det), each once.
+    pub fn nodes(&self) -> &[u32] {
+        &self.nodes
+    }
+
+    /// Segments (j1, j2) of Γ_det, owner counter-clockwise.
+    pub fn segments(&self) -> &[[u32; 2]] {
+        &self.segments
+    }
+}
+
+/// Per-node results of the last `resolve` plus friction history (struct of arrays indexed by node id;
+/// entries of nodes outside N_det stay zero/false).
+#[derive(Debug, Clone)]
+pub(crate) struct ContactState {
+    /// Slave had a contact element this step (used for damping, fem-method §6).
+    pub in_contact: Vec<bool>,
+    /// Penetration p = −g ≥ 0 [m].
+    pub penetration: Vec<f64>,
+    /// Normal pressure p_N = ε_n p ≥ 0 [Pa].
+    pub normal_pressure: Vec<f64>,
+    /// Signed tangential traction T along the master tangent t_e [Pa].
+    pub tangential_traction: Vec<f64>,
+    /// Slip (true) or stick (false) this step.
+    pub slipping: Vec<bool>,
+    /// Nodal area A_i [m] (per unit thickness).
+    pub area: Vec<f64>,
+    /// Friction history of the last step's contact element (None: no contact, history reset).
+    history: Vec<Option<SlaveHistory>>,
+}
+
+impl ContactState {
+    /// All-zero state for a mesh of `num_nodes` nodes.
+    pub fn new(num_nodes: usize) -> Self {
+        Self {
+            in_contact: vec![false; num_nodes],
+            penetration: vec![0.0; num_nodes],
+            normal_pressure: vec![0.0; num_nodes],
+            tangential_traction: vec![0.0; num_nodes],
+            slipping: vec![false; num_nodes],
+            area: vec![0.0; num_nodes],
+            history: vec![None; num_nodes],
+        }
+    }
+
+    /// Clears node i's results and friction history (no contact element this step).
+    fn clear(&mut self, i: usize) {
+        self.in_contact[i] = false;
+        self.penetration[i] = 0.0;
+        self.normal_pressure[i] = 0.0;
+        self.tangential_traction[i] = 0.0;
+        self.slipping[i] = false;
+        self.history[i] = None;
+    }
+}
+
+/// Preallocated scratch (bucket grid, candidate lists): no allocation in `resolve`.
+#[derive(Debug, Clone)]
+pub(crate) struct ContactWorkspace {
+    /// Bucket grid of master segments.
+    grid: BucketGrid,
+    /// Per-node Σ (L_e/2) n_e [m].
+    area_sum: Vec<Vector2<f64>>,
+    /// Per-node slave normal n_i [-].
+    normal: Vec<Vector2<f64>>,
+}
+
+impl ContactWorkspace {
+    /// Scratch for a mesh of `num_nodes` nodes and at most `max_segments` segments in Γ_det.
+    pub fn new(num_nodes: usize, max_segments: usize) -> Self {
+        Self {
+            grid: BucketGrid::with_capacity(max_segments),
+            area_sum: vec![Vector2::zeros(); num_nodes],
+            normal: vec![Vector2::zeros(); num_nodes],
+        }
+    }
+}
+
+/// Totals of one contact pass.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub(crate) struct ContactSummary {
+    /// Number of slave nodes with a contact element.
+    pub contacts: usize,
+    /// Friction dissipation of this step, Σ_slip w A_i μ p_N Δs_p [J/m] (w = ½).
+    pub friction_dissipation: f64,
+    /// Largest penetration [m].
+    pub max_penetration: f64,
+}
+
+/// One contact pass at the current positions (paper Algorithm 1, fem-method §5): bucket search,
+/// exclusion rules, smallest-|g| valid master, normal penalty, friction return map, averaged
+/// scatter with w = ½ (action = reaction).
+/// - `x`: current positions of all nodes [m].
+/// - `tied_twin[i]`: the node i is currently tied to (fem-method §3.1), or `u32::MAX`; tied
+///   twins are never a contact pair.
+/// - adds the contact forces [N/m] into `f` (all nodes; the caller routes forces on prescribed
+///   DOFs into reactions and sums tied twins).
+pub(crate) fn resolve(
+    p: &ContactParams,
+    surface: &mut DetectionSurface,
+    x: &[Vector2<f64>],
+    tied_twin: &[u32],
+    state: &mut ContactState,
+    ws: &mut ContactWorkspace,
+    f: &mut [Vector2<f64>],
+) -> ContactSummary {
+    if surface.num_segments() == 0 {
+        return ContactSummary::default(); // Γ_det = ∅ (standard model, nothing inserted yet)
+    }
+    let segments = surface.segments();
+    let nodes = surface.nodes();
+    node_geometry(segments, nodes, x, &mut ws.area_sum, &mut ws.normal);
+    ws.grid.rebuild(segments, x, p.max_gap, p.projection_tolerance);
+    let law = Friction {
+        eps_t: p.eps_t,
+        friction_coeff: p.friction_coeff,
+    };
+    let limits = Limits {
+        max_gap: p.max_gap,
+        projection_tolerance: p.projection_tolerance,
+    };
+    let mut summary = ContactSummary::default();
+    for &node in nodes {
+        let i = node as usize;
+        let area = ws.area_sum[i].norm();
+        state.area[i] = area;
+        let slave = Slave {
+            node,
+            tied_twin: tied_twin.get(i).copied().unwrap_or(u32::MAX),
+            normal: ws.normal[i],
+        };
+        let Some((e, proj)) = closest_master(&slave, &ws.grid, segments, x, &limits) else {
+            state.clear(i);
+            continue;
+        };
+        let segment = segments[e as usize];
+        let r = respond(
+            p.eps_n,
+            &law,
+            area,
+            (segment, &proj),
+            state.history[i].as_ref(),
+            x,
+        );
+        scatter(f, node, segment, proj.xi_clamped, r.force);
+        let penetration = -proj.gap;
+        state.in_contact[i] = true;
+        state.penetration[i] = penetration;
+        state.normal_pressure[i] = r.normal_pressure;
+        state.tangential_traction[i] = r.friction.traction;
+        state.slipping[i] = r.friction.slipping;
+        state.history[i] = Some(SlaveHistory {
+            segment,
+            xi: proj.xi,
+            tangent: proj.frame.tangent,
+            traction: r.friction.traction,
+        });
+        summary.contacts += 1;
+        summary.max_penetration = summary.max_penetration.max(penetration);
+        summary.friction_dissipation +=
+            forces::AVERAGING_WEIGHT * area * p.friction_coeff * r.normal_pressure * r.friction.plastic_slip;
+    }
+    summary
+}

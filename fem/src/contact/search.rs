@@ -1,0 +1,242 @@
+//! Contact search, fem-method §5.1: a uniform bucket grid of master segments rebuilt every step in
+//! O(|Γ_det|) into preallocated flat arrays (counting sort), and the narrow phase with the
+//! paper's exclusion rules and the smallest-|g| choice (fem-method §10.9).
+
+use nalgebra::Vector2;
+
+use super::geometry::{Projection, project};
+
+/// Upper bound of grid cells per segment capacity: the cell size is enlarged until the grid fits.
+const CELLS_PER_SEGMENT: usize = 4;
+
+/// Uniform grid of square cells; each segment is registered in every cell overlapped by its
+/// bounding box inflated by the search margin, so a slave only queries its own cell.
+///
+/// Storage is a counting sort into flat arrays (`cell_start`, `entries`) sized once from the
+/// segment capacity: rebuilding never allocates.
+#[derive(Debug, Clone)]
+pub(crate) struct BucketGrid {
+    /// Lower-left corner of cell (0, 0) [m].
+    origin: Vector2<f64>,
+    /// Cell edge length [m].
+    cell_size: f64,
+    /// Number of cells along x and y [-].
+    nx: usize,
+    ny: usize,
+    /// Start of each cell's entries in `entries`; length `max_cells + 1`.
+    cell_start: Vec<u32>,
+    /// Segment indices, grouped by cell.
+    entries: Vec<u32>,
+    /// Number of valid entries.
+    num_entries: usize,
+    /// Cell budget: `cell_start.len() − 1`.
+    max_cells: usize,
+}
+
+/// Bounding box of one segment, inflated by the search margin [m].
+fn inflated_box(a: Vector2<f64>, b: Vector2<f64>, margin: f64) -> (Vector2<f64>, Vector2<f64>) {
+    let m = Vector2::repeat(margin);
+    (a.inf(&b) - m, a.sup(&b) + m)
+}
+
+impl BucketGrid {
+    /// Grid with storage for `max_segments` segments (4 entries each: a segment's inflated box is
+    /// never wider than a cell, so it overlaps at most 2 × 2 cells).
+    pub(crate) fn with_capacity(max_segments: usize) -> Self {
+        let max_cells = CELLS_PER_SEGMENT * max_segments.max(1);
+        Self {
+            origin: Vector2::zeros(),
+            cell_size: 1.0,
+            nx: 0,
+            ny: 0,
+            cell_start: vec![0; max_cells + 1],
+            entries: vec![0; 4 * max_segments.max(1)],
+            num_entries: 0,
+            max_cells,
+        }
+    }
+
+    /// Rebuilds the grid for `segments` at positions `x`. `max_gap` is d_max [m];
+    /// `projection_tolerance` is ε_ext [-]: the margin m = d_max + ε_ext L_max / 2 covers every
+    /// node that can pass the narrow phase. Cell size c ≥ L_max + 2m (≥ L_max + d_max, §5.1).
+    pub(crate) fn rebuild(
+        &mut self,
+        segments: &[[u32; 2]],
+        x: &[Vector2<f64>],
+        max_gap: f64,
+        projection_tolerance: f64,
+    ) {
+        self.num_entries = 0;
+        self.nx = 0;
+        self.ny = 0;
+        if segments.is_empty() {
+            return;
+        }
+        if segments.len() * 4 > self.entries.len() {
+            // Only when more segments were added than `DetectionSurface::with_capacity` promised:
+            // grow (allocates once) rather than miss contacts.
+            self.max_cells = CELLS_PER_SEGMENT * segments.len();
+            self.entries.resize(4 * segments.len(), 0);
+            self.cell_start.resize(self.max_cells + 1, 0);
+        }
+        let (mut lo, mut hi) = (Vector2::repeat(f64::MAX), Vector2::repeat(f64::MIN));
+        let mut l_max: f64 = 0.0;
+        for s in segments {
+            let (a, b) = (x[s[0] as usize], x[s[1] as usize]);
+            lo = lo.inf(&a.inf(&b));
+            hi = hi.sup(&a.sup(&b));
+            l_max = l_max.max((b - a).norm());
+        }
+        let margin = max_gap + 0.5 * projection_tolerance * l_max;
+        let finite = lo.iter().chain(hi.iter()).all(|v| v.is_finite()) && margin.is_finite();
+        if !finite {
+            return;
+        }
+        lo -= Vector2::repeat(margin);
+        hi += Vector2::repeat(margin);
+        let extent = hi - lo;
+        // Cell size: at least L_max + 2m, enlarged until the grid fits the preallocated budget.
+        let budget = self.max_cells as f64;
+        let mut c = (l_max + 2.0 * margin)
+            .max((extent.x * extent.y / budget).sqrt())
+            .max(extent.x.max(extent.y) / budget)
+            .max(f64::MIN_POSITIVE);
+        let cells = |c: f64| ((extent.x / c) as usize + 1, (extent.y / c) as usize + 1);
+        while cells(c).0.saturating_mul(cells(c).1) > self.max_cells {
+            c *= 1.5;
+        }
+        self.origin = lo;
+        self.cell_size = c;
+        (self.nx, self.ny) = cells(c);
+        self.fill(segments, x, margin);
+    }
+
+    /// Counting sort of the segments into their cells: count, prefix sum, scatter.
+    fn fill(&mut self, segments: &[[u32; 2]], x: &[Vector2<f64>], margin: f64) {
+        let num_cells = self.nx * self.ny;
+        let counts = &mut self.cell_start[..=num_cells];
+        counts.fill(0);
+        for s in segments {
+            let (lo, hi) = inflated_box(x[s[0] as usize], x[s[1] as usize], margin);
+            let (i0, j0, i1, j1) = (self.ix(lo.x), self.iy(lo.y), self.ix(hi.x), self.iy(hi.y));
+            for j in j0..=j1 {
+                for i in i0..=i1 {
+                    self.cell_start[j * self.nx + i + 1] += 1;
+                }
+            }
+        }
+        for k in 0..num_cells {
+            self.cell_start[k + 1] += self.cell_start[k];
+        }
+        self.num_entries = self.cell_start[num_cells] as usize;
+        // Scatter: `cell_start[k]` is used as the running cursor of cell k and restored after.
+        for (index, s) in segments.iter().enumerate() {
+            let (lo, hi) = inflated_box(x[s[0] as usize], x[s[1] as usize], margin);
+            let (i0, j0, i1, j1) = (self.ix(lo.x), self.iy(lo.y), self.ix(hi.x), self.iy(hi.y));
+            for j in j0..=j1 {
+                for i in i0..=i1 {
+                    let k = j * self.nx + i;
+                    self.entries[self.cell_start[k] as usize] = index as u32;
+                    self.cell_start[k] += 1;
+                }
+            }
+        }
+        for k in (1..=num_cells).rev() {
+            self.cell_start[k] = self.cell_start[k - 1];
+        }
+        self.cell_start[0] = 0;
+    }
+
+    fn ix(&self, x: f64) -> usize {
+        (((x - self.origin.x) / self.cell_size).floor().max(0.0) as usize).min(self.nx - 1)
+    }
+
+    fn iy(&self, y: f64) -> usize {
+        (((y - self.origin.y) / self.cell_size).floor().max(0.0) as usize).min(self.ny - 1)
+    }
+
+    /// Segments registered in the cell containing `p` (empty outside the grid).
+    pub(crate) fn candidates(&self, p: Vector2<f64>) -> &[u32] {
+        if self.nx == 0 {
+            return &[];
+        }
+        let r = (p - self.origin) / self.cell_size;
+        let inside = r.x >= 0.0 && r.y >= 0.0 && r.x < self.nx as f64 && r.y < self.ny as f64;
+        if !inside {
+            return &[];
+        }
+        let k = r.y as usize * self.nx + r.x as usize;
+        &self.entries[self.cell_start[k] as usize..self.cell_start[k + 1] as usize]
+    }
+
+    /// Number of (segment, cell) registrations of the last rebuild.
+    #[cfg(test)]
+    pub(crate) fn num_entries(&self) -> usize {
+        self.num_entries
+    }
+
+    /// Capacities of the flat arrays (for the no-allocation tests).
+    #[cfg(test)]
+    pub(crate) fn capacities(&self) -> (usize, usize) {
+        (self.cell_start.capacity(), self.entries.capacity())
+    }
+}
+
+/// What the narrow phase needs besides the grid, for one slave node.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Slave {
+    /// Node id i.
+    pub node: u32,
+    /// The node i is tied to (fem-method §3.1), or `u32::MAX`.
+    pub tied_twin: u32,
+    /// Slave normal n_i (normalised sum of its segments' outward normals) [-].
+    pub normal: Vector2<f64>,
+}
+
+/// Acceptance limits of the narrow phase.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Limits {
+    /// d_max [m]: candidates with |g| > d_max are ignored.
+    pub max_gap: f64,
+    /// ε_ext [-]: accept −1 − ε_ext ≤ ξ ≤ 1 + ε_ext.
+    pub projection_tolerance: f64,
+}
+
+/// Narrow phase for one slave, fem-method §5.1: among the grid candidates, drop segments attached
+/// to the node or to its tied twin; project; keep penetrating (g < 0) pairs with |g| ≤ d_max,
+/// ξ within tolerance and facing normals (n_i·n_e < 0); return the one with the smallest |g|
+/// (fem-method §10.9; on ties the lowest segment index, for reproducibility).
+pub(crate) fn closest_master(
+    slave: &Slave,
+    grid: &BucketGrid,
+    segments: &[[u32; 2]],
+    x: &[Vector2<f64>],
+    limits: &Limits,
+) -> Option<(u32, Projection)> {
+    let xi_max = 1.0 + limits.projection_tolerance;
+    let x_i = x[slave.node as usize];
+    let mut best: Option<(u32, Projection)> = None;
+    for &e in grid.candidates(x_i) {
+        let [j1, j2] = segments[e as usize];
+        let attached = j1 == slave.node || j2 == slave.node;
+        let twin = j1 == slave.tied_twin || j2 == slave.tied_twin;
+        if attached || twin {
+            continue;
+        }
+        let Some(p) = project(x_i, x[j1 as usize], x[j2 as usize]) else {
+            continue;
+        };
+        let valid = p.gap < 0.0
+            && -p.gap <= limits.max_gap
+            && p.xi.abs() <= xi_max
+            && slave.normal.dot(&p.frame.normal) < 0.0;
+        let better = match &best {
+            None => true,
+            Some((b, q)) => -p.gap < -q.gap || (-p.gap == -q.gap && e < *b),
+        };
+        if valid && better {
+            best = Some((e, p));
+        }
+    }
+    best
+}

@@ -1,0 +1,431 @@
+//! Unit tests of the contact pass on small hand-built configurations.
+
+use nalgebra::Vector2;
+
+use super::search::{BucketGrid, Limits, Slave, closest_master};
+use super::*;
+
+const H: f64 = 1e-3; // m, segment length
+const EPS: f64 = 2.1e10; // Pa/m, ε_n = ε_t = 300 E per metre (cases.md)
+const NO_TWIN: u32 = u32::MAX;
+
+fn params(friction_coeff: f64) -> ContactParams {
+    ContactParams {
+        eps_n: EPS,
+        eps_t: EPS,
+        friction_coeff,
+        max_gap: H,
+        projection_tolerance: 1e-3,
+    }
+}
+
+/// Two flat faces: the lower block's top face (nodes 0..=n_low at y = 0, segments right → left
+/// so the normal is +y) and the upper block's bottom face (nodes after them at y = y_up,
+/// x = offset + k h_up, segments left → right so the normal is −y).
+struct Faces {
+    x: Vec<Vector2<f64>>,
+    surface: DetectionSurface,
+    lower: Vec<u32>,
+    upper: Vec<u32>,
+}
+
+fn faces(n_low: usize, h_low: f64, n_up: usize, h_up: f64, offset: f64, y_up: f64) -> Faces {
+    let mut x = Vec::new();
+    let lower: Vec<u32> = (0..=n_low).map(|k| k as u32).collect();
+    x.extend((0..=n_low).map(|k| Vector2::new(k as f64 * h_low, 0.0)));
+    let upper: Vec<u32> = (0..=n_up).map(|k| (n_low + 1 + k) as u32).collect();
+    x.extend((0..=n_up).map(|k| Vector2::new(offset + k as f64 * h_up, y_up)));
+    let mut surface = DetectionSurface::with_capacity(x.len(), n_low + n_up);
+    for w in lower.windows(2) {
+        surface.add_segment(w[1], w[0]);
+    }
+    for w in upper.windows(2) {
+        surface.add_segment(w[0], w[1]);
+    }
+    Faces {
+        x,
+        surface,
+        lower,
+        upper,
+    }
+}
+
+struct Pass {
+    state: ContactState,
+    ws: ContactWorkspace,
+    f: Vec<Vector2<f64>>,
+    summary: ContactSummary,
+}
+
+fn new_pass(c: &Faces) -> Pass {
+    let n = c.x.len();
+    Pass {
+        state: ContactState::new(n),
+        ws: ContactWorkspace::new(n, c.surface.num_segments()),
+        f: vec![Vector2::zeros(); n],
+        summary: ContactSummary::default(),
+    }
+}
+
+fn run(c: &mut Faces, pass: &mut Pass, p: &ContactParams, twins: &[u32]) {
+    pass.f.iter_mut().for_each(|f| *f = Vector2::zeros());
+    pass.summary = resolve(
+        p,
+        &mut c.surface,
+        &c.x,
+        twins,
+        &mut pass.state,
+        &mut pass.ws,
+        &mut pass.f,
+    );
+}
+
+fn total(f: &[Vector2<f64>]) -> (Vector2<f64>, f64) {
+    let sum = f.iter().sum::<Vector2<f64>>();
+    let scale = f.iter().map(|v| v.norm()).sum::<f64>();
+    (sum, scale)
+}
+
+#[test]
+fn node_matched_faces_pressed_give_eps_n_p_area_per_node() {
+    let delta = 2.4e-6; // m: p_N = ε_n δ = 5.04e4 Pa
+    let mut c = faces(4, H, 4, H, 0.0, -delta);
+    let mut pass = new_pass(&c);
+    run(&mut c, &mut pass, &params(0.0), &[]);
+    for (&i, sign) in c
+        .lower
+        .iter()
+        .map(|i| (i, -1.0))
+        .chain(c.upper.iter().map(|i| (i, 1.0)))
+    {
+        let a = pass.state.area[i as usize];
+        let expected = sign * EPS * delta * a; // upper nodes pushed up (+y), lower down
+        let fy = pass.f[i as usize].y;
+        assert!(
+            (fy - expected).abs() <= 1e-12 * expected.abs(),
+            "node {i}: {fy} vs {expected}"
+        );
+        assert!(pass.f[i as usize].x.abs() <= 1e-12 * expected.abs());
+        assert!((pass.state.penetration[i as usize] - delta).abs() < 1e-15);
+    }
+    assert_eq!(pass.state.area[c.upper[0] as usize], 0.5 * H);
+    assert!((pass.state.area[c.upper[2] as usize] - H).abs() < 1e-18);
+    assert_eq!(pass.summary.contacts, 10);
+}
+
+#[test]
+fn non_matching_faces_offset_carry_uniform_force_at_interior_nodes() {
+    let delta = 2.4e-6;
+    let mut c = faces(10, H, 9, H, 0.37 * H, -delta);
+    let mut pass = new_pass(&c);
+    run(&mut c, &mut pass, &params(0.0), &[]);
+    // Interior upper nodes see ½ ε_n δ h as slaves + ½ Σ_k N_j(ξ_k) ε_n δ h = ½ ε_n δ h as masters.
+    for &i in &c.upper[1..c.upper.len() - 1] {
+        let expected = EPS * delta * H;
+        assert!((pass.f[i as usize].y - expected).abs() < 1e-9 * expected);
+    }
+    let (sum, scale) = total(&pass.f);
+    assert!(sum.norm() <= 1e-14 * scale);
+}
+
+#[test]
+fn forces_sum_to_zero_with_unequal_areas_and_friction() {
+    // Unequal spacings, offset, tilted contact with friction sliding: Σ f = 0 (action = reaction).
+    let mut c = faces(7, H, 5, 1.37 * H, 0.21 * H, -1e-6);
+    for (k, &i) in c.upper.iter().enumerate() {
+        c.x[i as usize].y -= 1e-7 * k as f64;
+    }
+    let mut pass = new_pass(&c);
+    let p = params(0.3);
+    for _ in 0..5 {
+        run(&mut c, &mut pass, &p, &[]);
+        let (sum, scale) = total(&pass.f);
+        assert!(
+            scale > 0.0 && sum.norm() <= 1e-14 * scale,
+            "Σf = {sum:?}, scale {scale}"
+        );
+        for &i in &c.upper {
+            c.x[i as usize].x += 2e-7;
+        }
+    }
+    assert!(pass.summary.friction_dissipation > 0.0);
+}
+
+/// Lower face 3 segments; upper face 1 segment starting just left of the lower node at x = h,
+/// moved by `step` along +x every pass; returns T and plastic-slip dissipation of upper node 0.
+fn slide_across_junction(step: f64, passes: usize) -> Vec<(f64, f64, bool)> {
+    let delta = 2.4e-6;
+    let mut c = faces(3, H, 1, H, H - 5.5 * step, -delta);
+    let mut pass = new_pass(&c);
+    let p = params(0.3);
+    let slave = c.upper[0] as usize;
+    let mut out = Vec::new();
+    for _ in 0..passes {
+        run(&mut c, &mut pass, &p, &[]);
+        out.push((
+            pass.state.tangential_traction[slave],
+            pass.summary.friction_dissipation,
+            pass.state.slipping[slave],
+        ));
+        for &i in &c.upper {
+            c.x[i as usize].x += step;
+        }
+    }
+    out
+}
+
+#[test]
+fn sticking_node_crossing_a_segment_junction_keeps_a_continuous_traction() {
+    // The master tangent t_e is −x (lower face, owner below), so the slave moving +x slips by
+    // Δs = −d per pass. Stick: T_k = +ε_t k d exactly, before and after the crossing (pass 6).
+    let d = 1e-8; // m, ≪ μ p_N / ε_t = 7.2e-7 m
+    let out = slide_across_junction(d, 12);
+    for (k, &(t, _, slipping)) in out.iter().enumerate() {
+        let expected = EPS * d * k as f64;
+        assert!(!slipping);
+        assert!(
+            (t - expected).abs() <= 1e-6 * EPS * d,
+            "pass {k}: T = {t}, expected {expected}"
+        );
+    }
+}
+
+#[test]
+fn sliding_node_crossing_a_segment_junction_shows_no_spurious_slip() {
+    // Slip: T t_e = −μ p_N e_x (opposing the +x motion; t_e = −e_x) every pass, across the
+    // junction (a spurious slip of one segment length would flip T's sign).
+    let d = 2e-7;
+    let out = slide_across_junction(d, 14);
+    let limit = 0.3 * EPS * 2.4e-6;
+    for &(t, _, slipping) in out.iter().skip(5) {
+        assert!(slipping);
+        assert!((t - limit).abs() <= 1e-9 * limit, "T = {t}");
+    }
+}
+
+#[test]
+fn plastic_slip_of_one_slave_equals_its_motion_across_junctions() {
+    // One slave driven over a fixed master face of 3 segments by d per pass through `respond`
+    // with its own history: in steady slip Δs_p = d exactly at every pass, junctions included.
+    let c = faces(3, H, 1, H, 0.0, 0.0);
+    let (segments, mut x) = (c.surface.segments().to_vec(), c.x.clone());
+    let slave = c.upper[0];
+    let (d, delta) = (3e-5, 2.4e-6);
+    x[slave as usize] = Vector2::new(0.2 * H, -delta);
+    let mut grid = BucketGrid::with_capacity(segments.len());
+    let law = crate::law::friction::Friction {
+        eps_t: EPS,
+        friction_coeff: 0.3,
+    };
+    let limits = Limits {
+        max_gap: H,
+        projection_tolerance: 1e-3,
+    };
+    let mut history = None;
+    let mut seen = std::collections::BTreeSet::new();
+    for pass in 0..90 {
+        grid.rebuild(&segments, &x, H, 1e-3);
+        let s = Slave {
+            node: slave,
+            tied_twin: NO_TWIN,
+            normal: Vector2::new(0.0, -1.0),
+        };
+        let (e, proj) = closest_master(&s, &grid, &segments, &x, &limits).unwrap();
+        seen.insert(e);
+        let seg = segments[e as usize];
+        let r = forces::respond(EPS, &law, H, (seg, &proj), history.as_ref(), &x);
+        if pass >= 2 {
+            assert!(r.friction.slipping);
+            let dsp = r.friction.plastic_slip;
+            assert!((dsp - d).abs() <= 1e-6 * d, "pass {pass}: Δs_p = {dsp}, d = {d}");
+        }
+        history = Some(forces::SlaveHistory {
+            segment: seg,
+            xi: proj.xi,
+            tangent: proj.frame.tangent,
+            traction: r.friction.traction,
+        });
+        x[slave as usize].x += d;
+    }
+    assert_eq!(seen.len(), 3, "the slave must cross two junctions");
+}
+
+#[test]
+fn friction_force_opposes_the_relative_motion() {
+    let mut c = faces(8, H, 6, H, H, -2.4e-6);
+    let mut pass = new_pass(&c);
+    let p = params(0.3);
+    for _ in 0..3 {
+        run(&mut c, &mut pass, &p, &[]);
+        for &i in &c.upper {
+            c.x[i as usize].x -= 1e-6; // upper block slides along −x
+        }
+    }
+    let fx_up: f64 = c.upper.iter().map(|&i| pass.f[i as usize].x).sum();
+    let fx_low: f64 = c.lower.iter().map(|&i| pass.f[i as usize].x).sum();
+    assert!(
+        fx_up > 0.0 && (fx_up + fx_low).abs() < 1e-12 * fx_up,
+        "{fx_up} {fx_low}"
+    );
+    // Every slave slides at the Coulomb limit; both masters' tangents make T t_e oppose the motion:
+    // upper slaves on the lower face (t_e = −e_x) and lower slaves on the upper face (t_e = +e_x,
+    // the lower face moves +x relative to it) both have T = −μ p_N.
+    let limit = 0.3 * EPS * 2.4e-6;
+    for &i in c.upper.iter().chain(&c.lower) {
+        if pass.state.in_contact[i as usize] {
+            assert!(pass.state.slipping[i as usize]);
+            let t = pass.state.tangential_traction[i as usize];
+            assert!((t + limit).abs() < 1e-9 * limit, "node {i}: T = {t}");
+        }
+    }
+}
+
+#[test]
+fn tied_twins_never_pair() {
+    let mut c = faces(4, H, 4, H, 0.0, -1e-6);
+    let mut twins = vec![NO_TWIN; c.x.len()];
+    let (lo, up) = (c.lower[2], c.upper[2]);
+    twins[lo as usize] = up;
+    twins[up as usize] = lo;
+    let mut pass = new_pass(&c);
+    run(&mut c, &mut pass, &params(0.0), &twins);
+    assert!(!pass.state.in_contact[up as usize] && !pass.state.in_contact[lo as usize]);
+    assert!(pass.state.in_contact[c.upper[1] as usize] && pass.state.in_contact[c.lower[3] as usize]);
+}
+
+#[test]
+fn node_behind_bulk_farther_than_max_gap_is_not_paired() {
+    // Upper face 1.5 h below the lower face: facing normals, in range, but |g| > d_max = h.
+    let mut c = faces(4, H, 4, H, 0.3 * H, -1.5 * H);
+    let mut pass = new_pass(&c);
+    run(&mut c, &mut pass, &params(0.0), &[]);
+    assert_eq!(pass.summary.contacts, 0);
+    assert!(pass.f.iter().all(|f| *f == Vector2::zeros()));
+}
+
+#[test]
+fn smallest_penetration_wins_over_the_deepest_candidate() {
+    // Slave node 0 with normal −y; two master faces facing it (+y normals): one 0.1 h above
+    // (g = −0.1 h), one 0.6 h above (g = −0.6 h, bulk between). The literal arg min g would pick
+    // the deeper one; the rule picks the closer one.
+    let x = vec![
+        Vector2::new(0.5 * H, 0.0),
+        Vector2::new(H, 0.0),
+        Vector2::new(H, 0.1 * H),
+        Vector2::new(0.0, 0.1 * H),
+        Vector2::new(H, 0.6 * H),
+        Vector2::new(0.0, 0.6 * H),
+    ];
+    let segments = [[0, 1], [2, 3], [4, 5]];
+    let mut grid = BucketGrid::with_capacity(3);
+    grid.rebuild(&segments, &x, H, 1e-3);
+    let slave = Slave {
+        node: 0,
+        tied_twin: NO_TWIN,
+        normal: Vector2::new(0.0, -1.0),
+    };
+    let limits = Limits {
+        max_gap: H,
+        projection_tolerance: 1e-3,
+    };
+    let (e, proj) = closest_master(&slave, &grid, &segments, &x, &limits).unwrap();
+    assert_eq!(e, 1);
+    assert!((proj.gap + 0.1 * H).abs() < 1e-15);
+    // Same-facing segments (n_i·n_e ≥ 0) are excluded: flip the slave normal.
+    let same = Slave {
+        normal: Vector2::new(0.0, 1.0),
+        ..slave
+    };
+    assert!(closest_master(&same, &grid, &segments, &x, &limits).is_none());
+}
+
+#[test]
+fn history_resets_when_a_node_leaves_contact() {
+    let mut c = faces(4, H, 4, H, 0.0, -2.4e-6);
+    let mut pass = new_pass(&c);
+    let p = params(0.3);
+    let i = c.upper[2] as usize;
+    for _ in 0..3 {
+        run(&mut c, &mut pass, &p, &[]);
+        for &k in &c.upper {
+            c.x[k as usize].x += 1e-7;
+        }
+    }
+    assert!(pass.state.tangential_traction[i] > 0.0); // t_e = −e_x, slave moves +x
+    for &k in &c.upper {
+        c.x[k as usize].y = 1e-6; // separate
+    }
+    run(&mut c, &mut pass, &p, &[]);
+    assert!(!pass.state.in_contact[i] && pass.state.tangential_traction[i] == 0.0);
+    for &k in &c.upper {
+        c.x[k as usize].y = -2.4e-6; // back in contact: first step has T = 0 again
+    }
+    run(&mut c, &mut pass, &p, &[]);
+    assert!(pass.state.in_contact[i] && pass.state.tangential_traction[i] == 0.0);
+}
+
+#[test]
+fn grid_search_matches_brute_force() {
+    // Pseudo-random segments around two wavy faces; every slave's grid answer equals the answer
+    // from a grid with one cell (brute force).
+    let mut c = faces(40, 0.9 * H, 37, H, 0.13 * H, -3e-5);
+    let mut seed = 12345u64;
+    for v in c.x.iter_mut() {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        v.y += 4e-4 * ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5);
+    }
+    let segments = c.surface.segments();
+    let limits = Limits {
+        max_gap: H,
+        projection_tolerance: 1e-3,
+    };
+    let mut grid = BucketGrid::with_capacity(segments.len());
+    grid.rebuild(segments, &c.x, H, 1e-3);
+    let mut one_cell = BucketGrid::with_capacity(1);
+    one_cell.rebuild(segments, &c.x, 1.0, 0.0); // huge margin: one cell holds everything
+    assert!(grid.num_entries() < 3 * segments.len());
+    let mut found = 0;
+    for &node in c.surface.nodes() {
+        let normal = if c.upper.contains(&node) { -1.0 } else { 1.0 };
+        let slave = Slave {
+            node,
+            tied_twin: NO_TWIN,
+            normal: Vector2::new(0.0, normal),
+        };
+        let a = closest_master(&slave, &grid, segments, &c.x, &limits);
+        let b = closest_master(&slave, &one_cell, segments, &c.x, &limits);
+        assert_eq!(a.map(|r| r.0), b.map(|r| r.0), "node {node}");
+        found += usize::from(a.is_some());
+    }
+    assert!(found > 20, "only {found} contacts");
+}
+
+#[test]
+fn resolve_does_not_allocate_after_warm_up() {
+    let mut c = faces(30, H, 30, H, 0.37 * H, -2e-6);
+    let mut pass = new_pass(&c);
+    let p = params(0.3);
+    run(&mut c, &mut pass, &p, &[]);
+    let caps = |pass: &Pass, c: &Faces| {
+        (
+            pass.ws.grid.capacities(),
+            pass.ws.area_sum.capacity(),
+            pass.ws.normal.capacity(),
+            pass.state.history.capacity(),
+            c.surface.segments.capacity(),
+            c.surface.nodes.capacity(),
+            pass.f.capacity(),
+        )
+    };
+    let before = caps(&pass, &c);
+    for _ in 0..50 {
+        for &k in &c.upper {
+            c.x[k as usize].x += 3e-6;
+        }
+        run(&mut c, &mut pass, &p, &[]);
+    }
+    assert_eq!(before, caps(&pass, &c));
+    assert!(pass.summary.contacts > 50);
+}
