@@ -1,5 +1,30 @@
 //! Hybrid cohesive-contact explicit dynamic finite-element model (Pundir & Anciaux 2020).
+//!
+//! Plane-strain Q4 bulk, extrinsic cohesive elements inserted on the fly on a declared interface
+//! row, node-to-segment penalty contact with regularised Coulomb friction between crack faces
+//! (hybrid model) or contact through the cohesive law (standard model, paper eq. 4), explicit
+//! central differences. Public surface: [`Scene`], [`build`], [`step`], [`run`], [`RunOutput`].
 #![warn(missing_docs)]
 
 pub(crate) mod contact;
-pub(crate) mod law;
+pub mod diag;
+pub mod error;
+pub mod law;
+pub(crate) mod mesh;
+pub mod model;
+pub mod output;
+pub mod probe;
+pub mod scene;
+pub mod solver;
+
+pub use error::{BuildError, RunError, SceneError};
+pub use law::elastic::WaveSpeeds;
+pub use model::build::{build, build_with_row_map};
+pub use model::state::{Model, State, Workspace};
+pub use output::{
+    ArrivalRecord, ContactMeanRecord, EnergyRecord, FaceRecord, InterfaceRecord, ProbeRecord, RunOutput,
+    TipRecord, write_csv,
+};
+pub use scene::Scene;
+pub use solver::central_difference::step;
+pub use solver::run::{run, run_with_progress};

@@ -1,0 +1,47 @@
+//! Read-only observers of the state that emit the output records.
+
+pub(crate) mod energy;
+pub(crate) mod tips;
+pub(crate) mod tractions;
+
+use crate::model::state::{Model, State, Workspace};
+use crate::output::{ProbeRecord, RunOutput};
+
+/// An observer of sampled states.
+pub trait Observer {
+    /// Called at every sample time with the current state.
+    fn observe(&mut self, model: &Model, state: &State, ws: &Workspace);
+}
+
+/// The observer that fills a `RunOutput` with every record.
+pub struct Recorder<'a> {
+    /// Destination.
+    pub out: &'a mut RunOutput,
+}
+
+impl Observer for Recorder<'_> {
+    fn observe(&mut self, model: &Model, state: &State, ws: &Workspace) {
+        let out = &mut *self.out;
+        out.tips.push(tips::tips(model, state));
+        tips::interface_records(model, state, &mut out.interface);
+        let mean = tractions::face_records(model, state, &mut out.faces);
+        if state.contact.is_some() {
+            out.contact.push(mean);
+        }
+        out.energy.push(energy::record(model, state, ws));
+        for (k, &n) in model.probes.iter().enumerate() {
+            let n = n as usize;
+            let (x, u, v) = (model.grid.x0[n], state.u[n], state.v[n]);
+            out.probes.push(ProbeRecord {
+                t: state.t,
+                probe: k,
+                x: x.x,
+                y: x.y,
+                ux: u.x,
+                uy: u.y,
+                vx: v.x,
+                vy: v.y,
+            });
+        }
+    }
+}

@@ -1,0 +1,128 @@
+//! Crack-tip and cohesive-zone-tip tracking along the interface row (fem-method §8,
+//! docs/solver-api.md), damage records, and arrival times per Gauss point.
+
+use crate::mesh::interfaces::FacetKind;
+use crate::model::cohesive::facet_gauss;
+use crate::model::state::{Model, State};
+use crate::output::{ArrivalRecord, InterfaceRecord, TipRecord};
+
+/// Reference x of Gauss point q of facet c [m].
+fn gauss_x(model: &Model, c: usize, q: usize) -> f64 {
+    let row = model
+        .iface
+        .as_ref()
+        .expect("invariant: facets exist only with an interface row");
+    let (xa, xb) = (
+        model.grid.x0[row.minus[c] as usize].x,
+        model.grid.x0[row.minus[c + 1] as usize].x,
+    );
+    let (_, n1, n2) = facet_gauss()[q];
+    n1 * xa + n2 * xb
+}
+
+/// Walks the Gauss points in `order` from the pre-crack tip `start`: the crack tip is the last of
+/// the contiguous fully broken points, the cohesive-zone tip the last of the following damaged ones.
+fn walk(model: &Model, state: &State, order: impl Iterator<Item = (usize, usize)>, start: f64) -> (f64, f64) {
+    let (mut tip, mut cz, mut broken_run) = (start, start, true);
+    let row = model.iface.as_ref().expect("invariant: interface row");
+    for (c, q) in order {
+        if row.kind[c] != FacetKind::Cohesive {
+            break;
+        }
+        let f = &state.facets;
+        let d = if f.inserted[c] { f.gauss[c][q].damage } else { 0.0 };
+        if broken_run && d >= 1.0 {
+            tip = gauss_x(model, c, q);
+            cz = tip;
+        } else if d > 0.0 {
+            broken_run = false;
+            cz = gauss_x(model, c, q);
+        } else {
+            break;
+        }
+    }
+    (tip, cz)
+}
+
+/// Tip record at the current state.
+pub(crate) fn tips(model: &Model, state: &State) -> TipRecord {
+    let t = state.t;
+    let (Some(row), Some((xc, a))) = (&model.iface, model.crack) else {
+        let xc = model.crack.map_or(0.0, |c| c.0);
+        return TipRecord {
+            t,
+            tip_right: xc,
+            tip_left: xc,
+            cz_tip_right: xc,
+            cz_tip_left: xc,
+        };
+    };
+    let nf = row.num_facets();
+    let first_right = (0..nf).find(|&c| row.kind[c] != FacetKind::PreCrack && gauss_x(model, c, 0) > xc);
+    let last_left = (0..nf)
+        .rev()
+        .find(|&c| row.kind[c] != FacetKind::PreCrack && gauss_x(model, c, 1) < xc);
+    let right = first_right.map_or((xc + a, xc + a), |c0| {
+        walk(model, state, (c0..nf).flat_map(|c| [(c, 0), (c, 1)]), xc + a)
+    });
+    let left = last_left.map_or((xc - a, xc - a), |c0| {
+        walk(
+            model,
+            state,
+            (0..=c0).rev().flat_map(|c| [(c, 1), (c, 0)]),
+            xc - a,
+        )
+    });
+    TipRecord {
+        t,
+        tip_right: right.0,
+        tip_left: left.0,
+        cz_tip_right: right.1,
+        cz_tip_left: left.1,
+    }
+}
+
+/// Damage per cohesive Gauss point.
+pub(crate) fn interface_records(model: &Model, state: &State, out: &mut Vec<InterfaceRecord>) {
+    let Some(row) = &model.iface else { return };
+    for c in 0..row.num_facets() {
+        if row.kind[c] != FacetKind::Cohesive {
+            continue;
+        }
+        let inserted = state.facets.inserted[c];
+        for q in 0..2 {
+            let damage = if inserted {
+                state.facets.gauss[c][q].damage
+            } else {
+                0.0
+            };
+            out.push(InterfaceRecord {
+                t: state.t,
+                x: gauss_x(model, c, q),
+                damage,
+                inserted,
+            });
+        }
+    }
+}
+
+/// Insertion and failure times per cohesive Gauss point.
+pub(crate) fn arrivals(model: &Model, state: &State) -> Vec<ArrivalRecord> {
+    let Some(row) = &model.iface else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    for c in 0..row.num_facets() {
+        if row.kind[c] != FacetKind::Cohesive {
+            continue;
+        }
+        for q in 0..2 {
+            out.push(ArrivalRecord {
+                x: gauss_x(model, c, q),
+                insertion_time: state.facets.insert_time[c],
+                failure_time: state.facets.fail_time[c][q],
+            });
+        }
+    }
+    out
+}

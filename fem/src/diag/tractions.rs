@@ -1,0 +1,64 @@
+//! Contact fields on the upper face Γ1 ∪ Γ⁺coh (fem-method §8): per-node records and the
+//! area-weighted means T̄ⁿ = Σ A p_N / Σ A, T̄ᵗ = Σ A |T| / Σ A over contacting nodes.
+
+use crate::mesh::interfaces::FacetKind;
+use crate::model::state::{Model, State};
+use crate::output::{ContactMeanRecord, FaceRecord};
+
+/// Whether column i of the interface row touches a pre-crack or cohesive facet.
+fn on_face(model: &Model, i: usize) -> bool {
+    let row = model.iface.as_ref().expect("invariant: interface row");
+    let nf = row.num_facets();
+    [i.wrapping_sub(1), i]
+        .iter()
+        .any(|&c| c < nf && row.kind[c] != FacetKind::Plain)
+}
+
+/// Appends one record per upper-face node and returns the means.
+pub(crate) fn face_records(model: &Model, state: &State, out: &mut Vec<FaceRecord>) -> ContactMeanRecord {
+    let t = state.t;
+    let mut mean = ContactMeanRecord {
+        t,
+        mean_normal_traction: 0.0,
+        mean_tangential_traction: 0.0,
+        max_penetration: 0.0,
+    };
+    let (Some(row), Some(cp)) = (&model.iface, &state.contact) else {
+        return mean;
+    };
+    let cs = &cp.state;
+    let (mut area, mut sn, mut st) = (0.0, 0.0, 0.0);
+    for i in 0..row.plus.len() {
+        if !on_face(model, i) {
+            continue;
+        }
+        let n = row.plus[i] as usize;
+        let (p, pn, tt) = if cs.in_contact[n] {
+            (
+                cs.penetration[n],
+                cs.normal_pressure[n],
+                cs.tangential_traction[n].abs(),
+            )
+        } else {
+            (0.0, 0.0, 0.0)
+        };
+        out.push(FaceRecord {
+            t,
+            x: model.grid.x0[n].x,
+            penetration: p,
+            normal_traction: pn,
+            tangential_traction: tt,
+        });
+        if cs.in_contact[n] {
+            area += cs.area[n];
+            sn += cs.area[n] * pn;
+            st += cs.area[n] * tt;
+            mean.max_penetration = mean.max_penetration.max(p);
+        }
+    }
+    if area > 0.0 {
+        mean.mean_normal_traction = sn / area;
+        mean.mean_tangential_traction = st / area;
+    }
+    mean
+}

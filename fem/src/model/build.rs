@@ -1,0 +1,241 @@
+//! Scene -> (Model, State, Workspace): the only place that allocates.
+
+use crate::contact::{ContactParams, ContactState, ContactWorkspace, DetectionSurface};
+use crate::error::BuildError;
+use crate::law::cohesive::{ClosingTreatment, CohesiveState};
+use crate::mesh::interfaces::{FacetKind, InterfaceRow};
+use crate::mesh::structured::{Grid, GridSpec};
+use crate::model::bulk::{self, Stiffness};
+use crate::model::loading;
+use crate::model::state::{ContactPart, EnergyTotals, Facets, Model, State, Workspace};
+use crate::scene::{ModelKind, Scene};
+use nalgebra::Vector2;
+
+/// Builds the model, its initial state and the workspace from a validated scene.
+pub fn build(scene: &Scene) -> Result<(Model, State, Workspace), BuildError> {
+    build_with_row_map(scene, None)
+}
+
+/// As [`build`], with the interface row (y = 0) mapped onto y = f(x) [m] (paper Section 4 meshes).
+pub fn build_with_row_map(
+    scene: &Scene,
+    row_map: Option<&dyn Fn(f64) -> f64>,
+) -> Result<(Model, State, Workspace), BuildError> {
+    let f = &scene.fem;
+    let h = f.element_size;
+    let nx = ((f.x_range[1] - f.x_range[0]) / h).round() as usize;
+    let ny = ((f.y_range[1] - f.y_range[0]) / h).round() as usize;
+    let jc = (-f.y_range[0] / h).round() as usize;
+    let twinned = scene.crack.is_some() || scene.interface.is_some();
+    let grid = Grid::new(&GridSpec {
+        x_range: f.x_range,
+        y_range: f.y_range,
+        nx,
+        ny,
+        twinned_row: twinned.then_some(jc),
+        upper_shift: f.upper_offset * h,
+        row_map: row_map.map(|m| (jc, m)),
+    });
+    let d = scene.material.d_matrix();
+    let stiffness = stiffness(&grid, &d)?;
+    let mut mass = vec![0.0; grid.num_nodes()];
+    for e in 0..grid.num_elements() {
+        let m = bulk::lumped_mass(&grid.element_coords(e), scene.material.density);
+        for (k, n) in grid.element_nodes(e).iter().enumerate() {
+            mass[*n as usize] += m[k];
+        }
+    }
+    let crack = scene.crack.map(|c| (c.center_x, c.half_length));
+    let iface = InterfaceRow::new(&grid, crack, scene.interface.is_some());
+    let bd = loading::boundary(scene, &grid);
+    let facet_gradients = iface.as_ref().map_or(Vec::new(), |row| {
+        (0..row.num_facets())
+            .map(|c| {
+                [row.elem_plus[c], row.elem_minus[c]]
+                    .map(|e| bulk::gauss_gradients(&grid.element_coords(e as usize)))
+            })
+            .collect()
+    });
+    let contact = scene.has_contact().then_some(ContactParams {
+        eps_n: f.eps_n,
+        eps_t: f.eps_t,
+        friction_coeff: scene.friction_coeff,
+        max_gap: f.max_gap,
+        projection_tolerance: f.projection_tolerance,
+    });
+    let closing = match f.model {
+        ModelKind::Hybrid => ClosingTreatment::Hybrid,
+        ModelKind::Standard => ClosingTreatment::Standard { eps_n: f.eps_n },
+    };
+    let mut fixed_node = vec![false; grid.num_nodes()];
+    for p in &bd.prescribed {
+        fixed_node[p.node as usize] = true;
+    }
+    let probes = f
+        .probes
+        .iter()
+        .map(|p| nearest_node(&grid, Vector2::new(p[0], p[1])))
+        .collect();
+    let model = Model {
+        stiffness,
+        d,
+        mass,
+        dt: scene.time_step(),
+        cd: scene.wave_speeds().cd,
+        law: scene.interface,
+        closing,
+        insertion_rule: f.insertion_rule,
+        damping: f.damping,
+        damping_factor: f.damping_factor,
+        contact,
+        ramps: bd.ramps,
+        prescribed: bd.prescribed,
+        neumann: bd.neumann,
+        fixed_node,
+        probes,
+        crack,
+        lateral_contraction: f.lateral_contraction,
+        iface,
+        facet_gradients,
+        grid,
+    };
+    let state = initial_state(&model);
+    let row_len = model.iface.as_ref().map_or(0, |r| 2 * r.minus.len());
+    let n = model.grid.num_nodes();
+    let ws = Workspace {
+        f: vec![Vector2::zeros(); n],
+        x: if model.contact.is_some() {
+            model.grid.x0.clone()
+        } else {
+            Vec::new()
+        },
+        f_con: if model.contact.is_some() {
+            vec![Vector2::zeros(); n]
+        } else {
+            Vec::new()
+        },
+        row_u_old: vec![Vector2::zeros(); row_len],
+        ramp_values: vec![0.0; model.ramps.len()],
+        strain_energy: 0.0,
+        cohesive_seconds: 0.0,
+        contact_seconds: 0.0,
+    };
+    Ok((model, state, ws))
+}
+
+/// One shared K_e when every element is a translate of element 0, else one per element.
+fn stiffness(grid: &Grid, d: &[[f64; 3]; 3]) -> Result<Stiffness, BuildError> {
+    let c0 = grid.element_coords(0);
+    let tol = 1e-9 * (c0[2] - c0[0]).norm();
+    let same = (0..grid.num_elements()).all(|e| {
+        let c = grid.element_coords(e);
+        (0..4).all(|k| ((c[k] - c[0]) - (c0[k] - c0[0])).norm() <= tol)
+    });
+    let k_of = |e: usize| {
+        bulk::stiffness(&grid.element_coords(e), d)
+            .map_err(|det_j| BuildError::InvertedElement { element: e, det_j })
+    };
+    if same {
+        Ok(Stiffness::Shared(Box::new(k_of(0)?)))
+    } else {
+        (0..grid.num_elements())
+            .map(k_of)
+            .collect::<Result<Vec<_>, _>>()
+            .map(Stiffness::PerElement)
+    }
+}
+
+fn nearest_node(grid: &Grid, p: Vector2<f64>) -> u32 {
+    let mut best = (f64::INFINITY, 0u32);
+    for (n, x) in grid.x0.iter().enumerate() {
+        let d = (x - p).norm_squared();
+        if d < best.0 {
+            best = (d, n as u32);
+        }
+    }
+    best.1
+}
+
+/// Whether column i's twins are tied: some incident facet is neither inserted nor pre-crack (§3.1).
+pub(crate) fn column_tied(row: &InterfaceRow, inserted: &[bool], i: usize) -> bool {
+    let nf = row.num_facets();
+    [i.wrapping_sub(1), i]
+        .iter()
+        .filter(|&&c| c < nf)
+        .any(|&c| match row.kind[c] {
+            FacetKind::PreCrack => false,
+            FacetKind::Plain => true,
+            FacetKind::Cohesive => !inserted[c],
+        })
+}
+
+fn initial_state(model: &Model) -> State {
+    let n = model.grid.num_nodes();
+    let nf = model.iface.as_ref().map_or(0, |r| r.num_facets());
+    let zero_state = CohesiveState {
+        sigma_c_eff: 0.0,
+        delta_c_eff: 1.0,
+        delta_max: 0.0,
+        damage: 0.0,
+        t_ins: Vector2::zeros(),
+    };
+    let facets = Facets {
+        inserted: vec![false; nf],
+        sign: vec![1.0; nf],
+        gauss: vec![[zero_state; 2]; nf],
+        prev_opening: vec![[Vector2::zeros(); 2]; nf],
+        prev_traction: vec![[Vector2::zeros(); 2]; nf],
+        insert_time: vec![f64::NAN; nf],
+        fail_time: vec![[f64::NAN; 2]; nf],
+        active: Vec::with_capacity(nf),
+        column_insert_step: vec![u64::MAX; nf + 1],
+    };
+    let mut tied_twin = vec![u32::MAX; n];
+    let mut contact = None;
+    if let Some(row) = &model.iface {
+        for i in 0..row.minus.len() {
+            if column_tied(row, &facets.inserted, i) {
+                tied_twin[row.minus[i] as usize] = row.plus[i];
+                tied_twin[row.plus[i] as usize] = row.minus[i];
+            }
+        }
+        if model.contact.is_some() {
+            let cap = 2 * row.num_interface_facets();
+            let mut surface = DetectionSurface::with_capacity(n, cap);
+            for c in 0..row.num_facets() {
+                if row.kind[c] == FacetKind::PreCrack {
+                    add_facet_faces(&mut surface, row, c);
+                }
+            }
+            contact = Some(ContactPart {
+                surface,
+                state: ContactState::new(n),
+                ws: ContactWorkspace::new(n, cap),
+                f_prev: vec![Vector2::zeros(); 2 * row.minus.len()],
+                max_penetration: 0.0,
+            });
+        }
+    }
+    State {
+        step: 0,
+        t: 0.0,
+        u: vec![Vector2::zeros(); n],
+        v: vec![Vector2::zeros(); n],
+        a: vec![Vector2::zeros(); n],
+        tied_twin,
+        facets,
+        contact,
+        energy: EnergyTotals::default(),
+        presc_u: vec![0.0; model.prescribed.len()],
+        presc_v: vec![0.0; model.prescribed.len()],
+        presc_r: vec![0.0; model.prescribed.len()],
+        neumann_f: vec![0.0; model.neumann.len()],
+    }
+}
+
+/// Adds both faces of facet c to Γ_det, each in its owner's counter-clockwise order: the + face
+/// is the bottom edge of the upper element (a⁺ → b⁺), the − face the top edge of the lower (b⁻ → a⁻).
+pub(crate) fn add_facet_faces(surface: &mut DetectionSurface, row: &InterfaceRow, c: usize) {
+    surface.add_segment(row.plus[c], row.plus[c + 1]);
+    surface.add_segment(row.minus[c + 1], row.minus[c]);
+}

@@ -1,0 +1,116 @@
+//! Extrinsic insertion on declared cohesive facets (fem-method §4, paper App. A): average of the
+//! two neighbours' Gauss stresses extrapolated to each facet Gauss point; σ_eff = √(⟨σ_nn⟩₊² + τ²/β²);
+//! insert when max_q σ_eff ≥ σ_c (or mean > σ_c); σ_c,eff = σ_eff, δ_c,eff = δ_c σ_c/σ_eff, T_ins = σ n.
+
+use crate::law::cohesive::{CohesiveState, LinearCohesive};
+use crate::mesh::interfaces::{FacetKind, InterfaceRow};
+use crate::model::build::{add_facet_faces, column_tied};
+use crate::model::bulk;
+use crate::model::cohesive::facet_gauss;
+use crate::model::state::{ContactPart, Facets, Model};
+use crate::scene::InsertionRule;
+use nalgebra::Vector2;
+
+/// Traction vector t_q = σ n_f [Pa] and effective stress σ_eff [Pa] at both Gauss points of facet c.
+pub(crate) fn facet_tractions(
+    model: &Model,
+    row: &InterfaceRow,
+    law: &LinearCohesive,
+    c: usize,
+    u: &[Vector2<f64>],
+) -> [(Vector2<f64>, f64); 2] {
+    let stress = |e: u32, grads: &bulk::GaussGradients| {
+        let ue = model.grid.element_nodes(e as usize).map(|n| u[n as usize]);
+        bulk::gauss_stresses(grads, &model.d, &ue)
+    };
+    let g = &model.facet_gradients[c];
+    let (sp, sm) = (stress(row.elem_plus[c], &g[0]), stress(row.elem_minus[c], &g[1]));
+    let n = row.normal[c];
+    let tf = Vector2::new(n.y, -n.x);
+    facet_gauss().map(|(s, _, _)| {
+        // facet = bottom edge (η = −1) of the + element, top edge (η = +1) of the − element; ξ = s on both
+        let (a, b) = (bulk::extrapolate(&sp, s, -1.0), bulk::extrapolate(&sm, s, 1.0));
+        let sig = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])];
+        let t = Vector2::new(sig[0] * n.x + sig[2] * n.y, sig[2] * n.x + sig[1] * n.y);
+        let (snn, tau) = (t.dot(&n), t.dot(&tf));
+        let eff = (snn.max(0.0).powi(2) + (tau / law.beta).powi(2)).sqrt();
+        (t, eff)
+    })
+}
+
+/// Checks every candidate facet, inserts those that reach σ_c, unties twins whose incident
+/// facets are all open, extends Γ_det. Returns the number inserted.
+pub(crate) fn check_and_insert(
+    model: &Model,
+    facets: &mut Facets,
+    tied_twin: &mut [u32],
+    contact: Option<&mut ContactPart>,
+    u: &[Vector2<f64>],
+    step: u64,
+    t: f64,
+) -> usize {
+    let (Some(row), Some(law)) = (&model.iface, &model.law) else {
+        return 0;
+    };
+    let mut contact = contact;
+    let mut count = 0;
+    for c in 0..row.num_facets() {
+        if row.kind[c] != FacetKind::Cohesive || facets.inserted[c] {
+            continue;
+        }
+        let tq = facet_tractions(model, row, law, c, u);
+        let reach = match model.insertion_rule {
+            InsertionRule::Max => tq[0].1.max(tq[1].1) >= law.sigma_c,
+            InsertionRule::Mean => 0.5 * (tq[0].1 + tq[1].1) > law.sigma_c,
+        };
+        if !reach {
+            continue;
+        }
+        insert(model, row, law, facets, c, &tq, u, t);
+        facets.column_insert_step[c] = step;
+        facets.column_insert_step[c + 1] = step;
+        if let Some(cp) = contact.as_deref_mut() {
+            add_facet_faces(&mut cp.surface, row, c);
+        }
+        for i in [c, c + 1] {
+            if !column_tied(row, &facets.inserted, i) {
+                tied_twin[row.minus[i] as usize] = u32::MAX;
+                tied_twin[row.plus[i] as usize] = u32::MAX;
+            }
+        }
+        count += 1;
+    }
+    count
+}
+
+#[allow(clippy::too_many_arguments)]
+fn insert(
+    model: &Model,
+    row: &InterfaceRow,
+    law: &LinearCohesive,
+    facets: &mut Facets,
+    c: usize,
+    tq: &[(Vector2<f64>, f64); 2],
+    u: &[Vector2<f64>],
+    t: f64,
+) {
+    let centroid = |e: u32| {
+        let nodes = model.grid.element_nodes(e as usize);
+        nodes
+            .iter()
+            .map(|&n| model.grid.x0[n as usize] + u[n as usize])
+            .sum::<Vector2<f64>>()
+            / 4.0
+    };
+    let n_plain = crate::model::cohesive::midline_normal(row, &model.grid.x0, u, c, 1.0);
+    let up = centroid(row.elem_plus[c]) - centroid(row.elem_minus[c]);
+    facets.sign[c] = if n_plain.dot(&up) > 0.0 { 1.0 } else { -1.0 };
+    for (q, &(traction, eff)) in tq.iter().enumerate() {
+        facets.gauss[c][q] = CohesiveState::inserted(law, eff, traction);
+        facets.prev_opening[c][q] = Vector2::zeros();
+        facets.prev_traction[c][q] = traction;
+    }
+    facets.inserted[c] = true;
+    facets.insert_time[c] = t;
+    facets.active.push(c as u32);
+}

@@ -1,0 +1,8 @@
+//! Scene -> Model + State + Workspace, and the model's kernels (bulk, cohesive, insertion, loading).
+
+pub mod build;
+pub(crate) mod bulk;
+pub(crate) mod cohesive;
+pub(crate) mod insertion;
+pub(crate) mod loading;
+pub mod state;

@@ -1,0 +1,193 @@
+//! Model (immutable after build), State (struct of arrays, evolves) and Workspace (every buffer
+//! the step needs, allocated once).
+
+use crate::contact::{ContactParams, ContactState, ContactWorkspace, DetectionSurface};
+use crate::law::cohesive::{ClosingTreatment, CohesiveState, LinearCohesive};
+use crate::mesh::interfaces::InterfaceRow;
+use crate::mesh::structured::Grid;
+use crate::model::bulk::{GaussGradients, Stiffness};
+use crate::scene::{DampingSet, InsertionRule, Ramp};
+use nalgebra::Vector2;
+
+/// One boundary DOF whose value (displacement [m] or force [N/m]) is Σ_k coeff_k · ramp_k(t).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct BoundaryDof {
+    /// Node id.
+    pub node: u32,
+    /// 0 = x, 1 = y.
+    pub dof: u8,
+    /// (index into `Model::ramps`, coefficient); coefficient 0 terms are unused.
+    pub terms: [(u8, f64); 2],
+}
+
+impl BoundaryDof {
+    /// Value given the ramp values at the current time.
+    #[inline]
+    pub fn value(&self, ramps: &[f64]) -> f64 {
+        self.terms.iter().map(|&(k, c)| c * ramps[k as usize]).sum()
+    }
+}
+
+/// The model: mesh, topology, parameters. Immutable during the run.
+#[derive(Debug)]
+pub struct Model {
+    pub(crate) grid: Grid,
+    pub(crate) stiffness: Stiffness,
+    pub(crate) d: [[f64; 3]; 3],
+    /// Lumped nodal mass [kg/m].
+    pub(crate) mass: Vec<f64>,
+    /// Time step Δt [s].
+    pub(crate) dt: f64,
+    /// Dilatational speed c_d [m/s] (stability guard).
+    pub(crate) cd: f64,
+    pub(crate) iface: Option<InterfaceRow>,
+    /// Gauss gradients of the (+, −) elements of each interface facet (insertion checks).
+    pub(crate) facet_gradients: Vec<[GaussGradients; 2]>,
+    pub(crate) law: Option<LinearCohesive>,
+    pub(crate) closing: ClosingTreatment,
+    pub(crate) insertion_rule: InsertionRule,
+    pub(crate) damping: DampingSet,
+    pub(crate) damping_factor: f64,
+    pub(crate) contact: Option<ContactParams>,
+    /// Time histories referenced by the boundary DOFs.
+    pub(crate) ramps: Vec<Ramp>,
+    pub(crate) prescribed: Vec<BoundaryDof>,
+    pub(crate) neumann: Vec<BoundaryDof>,
+    /// Node has at least one prescribed DOF.
+    pub(crate) fixed_node: Vec<bool>,
+    /// Probe node ids.
+    pub(crate) probes: Vec<u32>,
+    /// Pre-crack (x_c, a) [m].
+    pub(crate) crack: Option<(f64, f64)>,
+    pub(crate) lateral_contraction: bool,
+}
+
+/// Cohesive state of the interface row's facets (struct of arrays, indexed by facet).
+#[derive(Debug, Clone)]
+pub(crate) struct Facets {
+    pub inserted: Vec<bool>,
+    /// Normal orientation sign s_e fixed at insertion.
+    pub sign: Vec<f64>,
+    pub gauss: Vec<[CohesiveState; 2]>,
+    /// Previous opening Δ [m] and traction T [Pa] per Gauss point (energy accounting).
+    pub prev_opening: Vec<[Vector2<f64>; 2]>,
+    pub prev_traction: Vec<[Vector2<f64>; 2]>,
+    /// Insertion time [s] (NaN: not inserted).
+    pub insert_time: Vec<f64>,
+    /// Time of full failure per Gauss point [s] (NaN: not yet).
+    pub fail_time: Vec<[f64; 2]>,
+    /// Inserted facets, in insertion order (capacity: every cohesive facet).
+    pub active: Vec<u32>,
+    /// Last step at which a cohesive element touching column i was inserted (u64::MAX: never).
+    pub column_insert_step: Vec<u64>,
+}
+
+/// Accumulated energies [J/m].
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct EnergyTotals {
+    pub boundary_work: f64,
+    pub cohesive_total: f64,
+    pub contact_work: f64,
+    pub friction: f64,
+    pub damping: f64,
+}
+
+/// Node-to-segment contact state (hybrid model with contact surfaces only).
+#[derive(Debug)]
+pub(crate) struct ContactPart {
+    pub surface: DetectionSurface,
+    pub state: ContactState,
+    pub ws: ContactWorkspace,
+    /// Contact force of the previous step per interface-row slot [N/m] (minus row then plus row).
+    pub f_prev: Vec<Vector2<f64>>,
+    pub max_penetration: f64,
+}
+
+/// Evolving state.
+#[derive(Debug)]
+pub struct State {
+    pub(crate) step: u64,
+    /// Time t [s].
+    pub(crate) t: f64,
+    /// Displacement u [m], velocity v [m/s], acceleration a [m/s²], per node.
+    pub(crate) u: Vec<Vector2<f64>>,
+    pub(crate) v: Vec<Vector2<f64>>,
+    pub(crate) a: Vec<Vector2<f64>>,
+    /// Tied twin of each node or u32::MAX (fem-method §3.1).
+    pub(crate) tied_twin: Vec<u32>,
+    pub(crate) facets: Facets,
+    pub(crate) contact: Option<ContactPart>,
+    pub(crate) energy: EnergyTotals,
+    /// ū_n per prescribed DOF [m], its velocity [m/s] and the previous reaction [N/m].
+    pub(crate) presc_u: Vec<f64>,
+    pub(crate) presc_v: Vec<f64>,
+    pub(crate) presc_r: Vec<f64>,
+    /// Previous Neumann force per entry [N/m].
+    pub(crate) neumann_f: Vec<f64>,
+}
+
+/// Every buffer of the step, allocated at build.
+#[derive(Debug)]
+pub struct Workspace {
+    /// Assembled nodal force [N/m].
+    pub(crate) f: Vec<Vector2<f64>>,
+    /// Current positions x = X + u [m] (contact only).
+    pub(crate) x: Vec<Vector2<f64>>,
+    /// Contact forces, non-zero on interface-row nodes only [N/m].
+    pub(crate) f_con: Vec<Vector2<f64>>,
+    /// Interface-row displacements before the predictor [m] (minus row then plus row).
+    pub(crate) row_u_old: Vec<Vector2<f64>>,
+    /// Ramp values at the current time.
+    pub(crate) ramp_values: Vec<f64>,
+    /// Strain energy of the last sampled step [J/m].
+    pub(crate) strain_energy: f64,
+    /// Step time spent in the cohesive law + insertion and in contact [s] (profiling).
+    pub(crate) cohesive_seconds: f64,
+    pub(crate) contact_seconds: f64,
+}
+
+impl Model {
+    /// Time step Δt [s].
+    pub fn time_step(&self) -> f64 {
+        self.dt
+    }
+
+    /// Number of nodes (twins counted twice).
+    pub fn num_nodes(&self) -> usize {
+        self.grid.num_nodes()
+    }
+
+    /// Number of bulk elements.
+    pub fn num_elements(&self) -> usize {
+        self.grid.num_elements()
+    }
+}
+
+impl State {
+    /// Current time [s].
+    pub fn time(&self) -> f64 {
+        self.t
+    }
+
+    /// Steps done.
+    pub fn step_count(&self) -> u64 {
+        self.step
+    }
+
+    /// Number of inserted cohesive elements.
+    pub fn num_inserted(&self) -> usize {
+        self.facets.active.len()
+    }
+
+    /// Displacements [m] per node.
+    pub fn displacements(&self) -> &[Vector2<f64>] {
+        &self.u
+    }
+}
+
+impl Workspace {
+    /// Seconds spent in cohesive work (law + insertion) and in contact so far.
+    pub fn profile_seconds(&self) -> (f64, f64) {
+        (self.cohesive_seconds, self.contact_seconds)
+    }
+}

@@ -1,0 +1,172 @@
+//! Output records (docs/solver-api.md) and their CSV writers; the only module that writes files.
+
+use serde::Serialize;
+use std::io;
+use std::path::{Path, PathBuf};
+
+/// One sample of the crack-tip history; positions are x coordinates [m], time t [s].
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct TipRecord {
+    /// Time [s].
+    pub t: f64,
+    /// Right crack tip (fully broken up to here) [m].
+    pub tip_right: f64,
+    /// Left crack tip [m].
+    pub tip_left: f64,
+    /// Right cohesive-zone tip (damage > 0, contiguous) [m].
+    pub cz_tip_right: f64,
+    /// Left cohesive-zone tip [m].
+    pub cz_tip_left: f64,
+}
+
+/// Damage at one interface Gauss point.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct InterfaceRecord {
+    /// Time [s].
+    pub t: f64,
+    /// Reference x of the Gauss point [m].
+    pub x: f64,
+    /// Damage d [-] (0 if not inserted).
+    pub damage: f64,
+    /// Cohesive element inserted.
+    pub inserted: bool,
+}
+
+/// Contact state of one node of the upper face (Γ1 ∪ Γ⁺coh).
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct FaceRecord {
+    /// Time [s].
+    pub t: f64,
+    /// Reference x of the node [m].
+    pub x: f64,
+    /// Penetration p = −g ≥ 0 [m].
+    pub penetration: f64,
+    /// Normal contact pressure p_N ≥ 0 [Pa].
+    pub normal_traction: f64,
+    /// Magnitude of the tangential contact traction |T| [Pa].
+    pub tangential_traction: f64,
+}
+
+/// Means over the contacting nodes of the upper face (Figs. 6c, D.15).
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct ContactMeanRecord {
+    /// Time [s].
+    pub t: f64,
+    /// T̄ⁿ = Σ A p_N / Σ A [Pa].
+    pub mean_normal_traction: f64,
+    /// T̄ᵗ = Σ A |T| / Σ A [Pa].
+    pub mean_tangential_traction: f64,
+    /// Largest penetration on the face [m].
+    pub max_penetration: f64,
+}
+
+/// Energies [J/m] (fem-method §8), measured from t = 0.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct EnergyRecord {
+    /// Time [s].
+    pub t: f64,
+    /// E_kin = ½ Σ m |v|² [J/m].
+    pub kinetic: f64,
+    /// E_strain = ½ Σ uᵀ K u [J/m].
+    pub strain: f64,
+    /// E_coh,tot: work absorbed by the cohesive elements [J/m].
+    pub cohesive: f64,
+    /// E_coh,diss = E_coh,tot − E_coh,rev [J/m].
+    pub cohesive_dissipated: f64,
+    /// Friction dissipation [J/m].
+    pub friction_dissipated: f64,
+    /// Kinetic energy removed by velocity scaling [J/m].
+    pub damping_removed: f64,
+    /// Work of the contact forces W_con (≤ 0 when dissipative) [J/m].
+    pub contact_work: f64,
+    /// Work of the boundary forces W_ext [J/m].
+    pub boundary_work: f64,
+    /// Residual W_ext + W_con − (E_kin + E_strain + E_coh,tot + E_damp) [J/m].
+    pub residual: f64,
+}
+
+/// Insertion and failure time of one interface Gauss point.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct ArrivalRecord {
+    /// Reference x [m].
+    pub x: f64,
+    /// Insertion time [s] (NaN: never).
+    pub insertion_time: f64,
+    /// Time of full failure d = 1 [s] (NaN: never).
+    pub failure_time: f64,
+}
+
+/// Displacement and velocity of a probe node.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct ProbeRecord {
+    /// Time [s].
+    pub t: f64,
+    /// Probe index in `[fem].probes`.
+    pub probe: usize,
+    /// Reference position of the node [m].
+    pub x: f64,
+    /// Reference position of the node [m].
+    pub y: f64,
+    /// Displacement [m].
+    pub ux: f64,
+    /// Displacement [m].
+    pub uy: f64,
+    /// Velocity [m/s].
+    pub vx: f64,
+    /// Velocity [m/s].
+    pub vy: f64,
+}
+
+/// Everything a run produces.
+#[derive(Debug, Clone, Default)]
+pub struct RunOutput {
+    /// Time step [s].
+    pub time_step: f64,
+    /// Steps done.
+    pub steps: u64,
+    /// Whether the Westergaard field had the lateral-contraction term.
+    pub lateral_contraction: bool,
+    /// Tip history.
+    pub tips: Vec<TipRecord>,
+    /// Damage per interface Gauss point per sample.
+    pub interface: Vec<InterfaceRecord>,
+    /// Upper-face contact state per node per sample.
+    pub faces: Vec<FaceRecord>,
+    /// Mean contact tractions per sample.
+    pub contact: Vec<ContactMeanRecord>,
+    /// Energies per sample.
+    pub energy: Vec<EnergyRecord>,
+    /// Insertion/failure times per interface Gauss point (at the end of the run).
+    pub arrivals: Vec<ArrivalRecord>,
+    /// Probe histories.
+    pub probes: Vec<ProbeRecord>,
+    /// Wall time in cohesive work (law + insertion) [s].
+    pub cohesive_seconds: f64,
+    /// Wall time in contact [s].
+    pub contact_seconds: f64,
+}
+
+fn write<T: Serialize>(dir: &Path, name: &str, rows: &[T], out: &mut Vec<PathBuf>) -> io::Result<()> {
+    let path = dir.join(name);
+    let mut w = csv::Writer::from_path(&path).map_err(io::Error::other)?;
+    for r in rows {
+        w.serialize(r).map_err(io::Error::other)?;
+    }
+    w.flush()?;
+    out.push(path);
+    Ok(())
+}
+
+/// Writes tips.csv, interface.csv, faces.csv, contact.csv, energy.csv, arrivals.csv, probes.csv into `dir`.
+pub fn write_csv(output: &RunOutput, dir: &Path) -> io::Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir)?;
+    let mut out = Vec::new();
+    write(dir, "tips.csv", &output.tips, &mut out)?;
+    write(dir, "interface.csv", &output.interface, &mut out)?;
+    write(dir, "faces.csv", &output.faces, &mut out)?;
+    write(dir, "contact.csv", &output.contact, &mut out)?;
+    write(dir, "energy.csv", &output.energy, &mut out)?;
+    write(dir, "arrivals.csv", &output.arrivals, &mut out)?;
+    write(dir, "probes.csv", &output.probes, &mut out)?;
+    Ok(out)
+}

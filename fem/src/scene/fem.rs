@@ -1,0 +1,338 @@
+//! The `[fem]` section: discretisation, model options, boundary conditions.
+
+use super::raw::{RawBoundaryComponent, RawFem, RawSide};
+use super::{Crack, Ramp, check};
+use crate::error::SceneError;
+
+/// Largest allowed safety factor α of the stable step (fem-method §2, §10.11).
+pub(crate) const MAX_SAFETY: f64 = 0.9;
+
+/// Which cohesive-contact model runs (paper Section 4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ModelKind {
+    /// Hybrid: node-to-segment contact + cohesive law without compression (paper §2).
+    Hybrid,
+    /// Standard: contact through the cohesive law's compression penalty (paper eq. 4), no node-to-segment contact.
+    Standard,
+}
+
+/// Insertion criterion over the two facet Gauss points (fem-method §4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum InsertionRule {
+    /// Insert when max_q σ_eff,q ≥ σ_c (paper App. A; default).
+    Max,
+    /// Insert when mean_q σ_eff,q > σ_c (Akantu's default).
+    Mean,
+}
+
+/// Nodes whose velocity is scaled each step (fem-method §6).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DampingSet {
+    /// Only slave nodes in contact.
+    ContactOnly,
+    /// Contact slaves and every node of any inserted cohesive element (default).
+    AllCohesive,
+    /// Contact slaves and nodes of cohesive elements inserted within the last N steps.
+    RecentCohesive(u64),
+}
+
+/// Kind of a boundary condition component.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BoundaryKind {
+    /// Imposed displacement [m], uniform along the side.
+    Displacement,
+    /// Imposed traction [Pa] (Neumann, consistent nodal forces), uniform along the side.
+    Traction,
+}
+
+/// One component (x or y) of a side's boundary condition.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BoundaryComponent {
+    /// Displacement or traction.
+    pub kind: BoundaryKind,
+    /// History of the value ([m] or [Pa]) through the ramp of eq. (B.1).
+    pub ramp: Ramp,
+}
+
+/// Side-wise boundary conditions replacing the Westergaard field; sides or components not given are free.
+/// Index order: [bottom, right, top, left], each [x, y].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct BoundarySpec {
+    /// Per side, per component.
+    pub sides: [[Option<BoundaryComponent>; 2]; 4],
+}
+
+/// Validated `[fem]` section.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FemSpec {
+    /// Domain x range [m].
+    pub x_range: [f64; 2],
+    /// Domain y range [m] (y = 0 is the crack/interface row).
+    pub y_range: [f64; 2],
+    /// Element edge h [m].
+    pub element_size: f64,
+    /// Hybrid or standard model.
+    pub model: ModelKind,
+    /// Safety factor α of the stable step [-] (≤ 0.9).
+    pub time_step_safety: f64,
+    /// Requested time step [s]; refused above the stable limit.
+    pub requested_time_step: Option<f64>,
+    /// Normal penalty ε_n [Pa/m].
+    pub eps_n: f64,
+    /// Tangential penalty ε_t [Pa/m].
+    pub eps_t: f64,
+    /// Add u_x += −ν (x − x_c) σ_yy/(2G) to the Westergaard field (cases.md).
+    pub lateral_contraction: bool,
+    /// Sampling interval of the records [s].
+    pub output_interval: f64,
+    /// Insertion criterion.
+    pub insertion_rule: InsertionRule,
+    /// Damped set.
+    pub damping: DampingSet,
+    /// Velocity scaling factor per step [-] (paper: 0.99).
+    pub damping_factor: f64,
+    /// Contact detection distance d_max [m] (default h).
+    pub max_gap: f64,
+    /// Contact projection tolerance ε_ext [-].
+    pub projection_tolerance: f64,
+    /// Horizontal shift of the upper block's nodes [element sizes] (full-width pre-crack only).
+    pub upper_offset: f64,
+    /// Probe points (reference positions [m]); the nearest node is recorded.
+    pub probes: Vec<[f64; 2]>,
+    /// Side-wise boundary conditions; `None`: Westergaard displacements on the whole boundary.
+    pub boundary: Option<BoundarySpec>,
+}
+
+fn option<T: Copy>(
+    field: &'static str,
+    value: Option<&String>,
+    default: T,
+    table: &[(&str, T)],
+    allowed: &'static str,
+) -> Result<T, SceneError> {
+    let Some(v) = value else { return Ok(default) };
+    table
+        .iter()
+        .find(|(k, _)| *k == v.as_str())
+        .map(|(_, t)| *t)
+        .ok_or_else(|| SceneError::BadOption {
+            field,
+            value: v.clone(),
+            allowed,
+        })
+}
+
+fn is_multiple(length: f64, h: f64) -> bool {
+    let n = length / h;
+    (n - n.round()).abs() < 1e-6 && n.round() >= 1.0
+}
+
+fn component(field: &'static str, c: &RawBoundaryComponent) -> Result<BoundaryComponent, SceneError> {
+    let kind = option(
+        field,
+        Some(&c.kind),
+        BoundaryKind::Displacement,
+        &[
+            ("displacement", BoundaryKind::Displacement),
+            ("traction", BoundaryKind::Traction),
+        ],
+        "\"displacement\" [m] or \"traction\" [Pa]",
+    )?;
+    check(field, c.initial, true, "a finite number")?;
+    check(field, c.final_, true, "a finite number")?;
+    check(field, c.ramp_start, c.ramp_start >= 0.0, "ramp_start >= 0 s")?;
+    check(
+        field,
+        c.ramp_end,
+        c.ramp_end >= c.ramp_start,
+        "ramp_end >= ramp_start",
+    )?;
+    let ramp = Ramp {
+        initial: c.initial,
+        final_value: c.final_,
+        ramp_start: c.ramp_start,
+        ramp_end: c.ramp_end,
+    };
+    Ok(BoundaryComponent { kind, ramp })
+}
+
+fn side(names: [&'static str; 2], s: &Option<RawSide>) -> Result<[Option<BoundaryComponent>; 2], SceneError> {
+    let Some(s) = s else { return Ok([None, None]) };
+    let x = s.x.as_ref().map(|c| component(names[0], c)).transpose()?;
+    let y = s.y.as_ref().map(|c| component(names[1], c)).transpose()?;
+    Ok([x, y])
+}
+
+fn geometry(f: &RawFem, crack: Option<&Crack>) -> Result<(), SceneError> {
+    let h = check("fem.element_size", f.element_size, f.element_size > 0.0, "> 0 m")?;
+    let [x0, x1] = f.x_range;
+    let [y0, y1] = f.y_range;
+    check("fem.x_range", x1 - x0, x1 > x0, "x_range[1] > x_range[0]")?;
+    check(
+        "fem.y_range",
+        y0,
+        y0 < 0.0 && y1 > 0.0,
+        "y_range[0] < 0 < y_range[1] (y = 0 is the interface row)",
+    )?;
+    for (name, len) in [
+        ("width", x1 - x0),
+        ("height below y = 0", -y0),
+        ("height above y = 0", y1),
+    ] {
+        if !is_multiple(len, h) {
+            return Err(SceneError::Geometry(format!(
+                "{name} {len} m is not a multiple of fem.element_size = {h} m"
+            )));
+        }
+    }
+    if let Some(c) = crack {
+        for tip in [c.center_x - c.half_length, c.center_x + c.half_length] {
+            let inside = tip > x0 && tip < x1;
+            if inside && !is_multiple(tip - x0, h) {
+                return Err(SceneError::Geometry(format!(
+                    "crack tip x = {tip} m is not on a node (h = {h} m)"
+                )));
+            }
+        }
+        if c.center_x + c.half_length <= x0 || c.center_x - c.half_length >= x1 {
+            return Err(SceneError::Geometry(
+                "the pre-crack lies outside the domain".to_string(),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Validates `[fem]` against the pre-crack and the duration.
+pub(crate) fn validate_fem(f: &RawFem, crack: Option<&Crack>, duration: f64) -> Result<FemSpec, SceneError> {
+    geometry(f, crack)?;
+    let h = f.element_size;
+    let model = option(
+        "fem.model",
+        f.model.as_ref(),
+        ModelKind::Hybrid,
+        &[("hybrid", ModelKind::Hybrid), ("standard", ModelKind::Standard)],
+        "\"hybrid\" or \"standard\"",
+    )?;
+    let alpha = f.time_step_safety.unwrap_or(0.5);
+    check(
+        "fem.time_step_safety",
+        alpha,
+        alpha > 0.0 && alpha <= MAX_SAFETY,
+        "(0, 0.9]",
+    )?;
+    if let Some(dt) = f.time_step {
+        check("fem.time_step", dt, dt > 0.0, "> 0 s")?;
+    }
+    let eps_n = f.eps_n.unwrap_or(0.0);
+    let eps_t = f.eps_t.unwrap_or(eps_n);
+    check("fem.eps_n", eps_n, eps_n >= 0.0, ">= 0 Pa/m")?;
+    check("fem.eps_t", eps_t, eps_t >= 0.0, ">= 0 Pa/m")?;
+    check(
+        "fem.output_interval",
+        f.output_interval,
+        f.output_interval > 0.0 && f.output_interval <= duration,
+        "(0, loading.duration] s",
+    )?;
+    let insertion_rule = option(
+        "fem.insertion_rule",
+        f.insertion_rule.as_ref(),
+        InsertionRule::Max,
+        &[("max", InsertionRule::Max), ("mean", InsertionRule::Mean)],
+        "\"max\" or \"mean\"",
+    )?;
+    let recent = f.damping_recent_steps.unwrap_or(100);
+    let damping = option(
+        "fem.damping",
+        f.damping.as_ref(),
+        DampingSet::AllCohesive,
+        &[
+            ("contact_only", DampingSet::ContactOnly),
+            ("all_cohesive", DampingSet::AllCohesive),
+            ("recent_cohesive", DampingSet::RecentCohesive(recent)),
+        ],
+        "\"contact_only\", \"all_cohesive\" or \"recent_cohesive\"",
+    )?;
+    let damping_factor = f.damping_factor.unwrap_or(0.99);
+    check(
+        "fem.damping_factor",
+        damping_factor,
+        damping_factor > 0.0 && damping_factor <= 1.0,
+        "(0, 1]",
+    )?;
+    let max_gap = f.max_gap.unwrap_or(h);
+    check("fem.max_gap", max_gap, max_gap > 0.0, "> 0 m")?;
+    let projection_tolerance = f.projection_tolerance.unwrap_or(1e-3);
+    check(
+        "fem.projection_tolerance",
+        projection_tolerance,
+        (0.0..0.5).contains(&projection_tolerance),
+        "[0, 0.5)",
+    )?;
+    let upper_offset = f.upper_offset.unwrap_or(0.0);
+    check(
+        "fem.upper_offset",
+        upper_offset,
+        (0.0..1.0).contains(&upper_offset),
+        "[0, 1) element sizes",
+    )?;
+    let full_width = crack.is_some_and(|c| {
+        c.center_x - c.half_length <= f.x_range[0] && c.center_x + c.half_length >= f.x_range[1]
+    });
+    if upper_offset > 0.0 && !full_width {
+        return Err(SceneError::Geometry(
+            "fem.upper_offset needs a full-width pre-crack (two separate blocks)".to_string(),
+        ));
+    }
+    let boundary = match &f.boundary {
+        None => None,
+        Some(b) => Some(BoundarySpec {
+            sides: [
+                side(["fem.boundary.bottom.x", "fem.boundary.bottom.y"], &b.bottom)?,
+                side(["fem.boundary.right.x", "fem.boundary.right.y"], &b.right)?,
+                side(["fem.boundary.top.x", "fem.boundary.top.y"], &b.top)?,
+                side(["fem.boundary.left.x", "fem.boundary.left.y"], &b.left)?,
+            ],
+        }),
+    };
+    if boundary.is_none() && (crack.is_none() || full_width) {
+        return Err(SceneError::Geometry(
+            "the Westergaard boundary field needs a centre pre-crack inside the domain; give [fem.boundary] instead".to_string(),
+        ));
+    }
+    let probes = f.probes.clone().unwrap_or_default();
+    for p in &probes {
+        check(
+            "fem.probes",
+            p[0],
+            p[0] >= f.x_range[0] && p[0] <= f.x_range[1],
+            "inside fem.x_range",
+        )?;
+        check(
+            "fem.probes",
+            p[1],
+            p[1] >= f.y_range[0] && p[1] <= f.y_range[1],
+            "inside fem.y_range",
+        )?;
+    }
+    Ok(FemSpec {
+        x_range: f.x_range,
+        y_range: f.y_range,
+        element_size: h,
+        model,
+        time_step_safety: alpha,
+        requested_time_step: f.time_step,
+        eps_n,
+        eps_t,
+        lateral_contraction: f.lateral_contraction.unwrap_or(true),
+        output_interval: f.output_interval,
+        insertion_rule,
+        damping,
+        damping_factor,
+        max_gap,
+        projection_tolerance,
+        upper_offset,
+        probes,
+        boundary,
+    })
+}

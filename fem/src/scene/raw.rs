@@ -1,0 +1,120 @@
+//! The TOML form of a scene (serde, `deny_unknown_fields`); no physics, no checks.
+
+use serde::Deserialize;
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawScene {
+    pub name: Option<String>,
+    pub material: RawMaterial,
+    pub interface: Option<RawInterface>,
+    pub crack: Option<RawCrack>,
+    pub friction: Option<RawFriction>,
+    pub loading: RawLoading,
+    pub fem: RawFem,
+    /// Owned by the spectral model: accepted, not read.
+    #[allow(dead_code)]
+    pub spectral: Option<toml::Value>,
+    /// Owned by the compare harness: accepted, not read.
+    #[allow(dead_code)]
+    pub compare: Option<toml::Value>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawMaterial {
+    pub youngs_modulus: f64,
+    pub poisson_ratio: f64,
+    pub density: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawInterface {
+    pub sigma_c: f64,
+    pub delta_c: f64,
+    pub beta: f64,
+    pub kappa: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawCrack {
+    pub half_length: f64,
+    pub center_x: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawFriction {
+    pub friction_coeff: f64,
+}
+
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawRamp {
+    pub initial: f64,
+    #[serde(rename = "final")]
+    pub final_: f64,
+    pub ramp_start: f64,
+    pub ramp_end: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawLoading {
+    pub duration: f64,
+    pub normal: Option<RawRamp>,
+    pub shear: Option<RawRamp>,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawBoundaryComponent {
+    pub kind: String,
+    pub initial: f64,
+    #[serde(rename = "final")]
+    pub final_: f64,
+    pub ramp_start: f64,
+    pub ramp_end: f64,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawSide {
+    pub x: Option<RawBoundaryComponent>,
+    pub y: Option<RawBoundaryComponent>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawBoundary {
+    pub bottom: Option<RawSide>,
+    pub right: Option<RawSide>,
+    pub top: Option<RawSide>,
+    pub left: Option<RawSide>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawFem {
+    pub x_range: [f64; 2],
+    pub y_range: [f64; 2],
+    pub element_size: f64,
+    pub model: Option<String>,
+    pub time_step_safety: Option<f64>,
+    pub time_step: Option<f64>,
+    pub eps_n: Option<f64>,
+    pub eps_t: Option<f64>,
+    pub lateral_contraction: Option<bool>,
+    pub output_interval: f64,
+    pub insertion_rule: Option<String>,
+    pub damping: Option<String>,
+    pub damping_factor: Option<f64>,
+    pub damping_recent_steps: Option<u64>,
+    pub max_gap: Option<f64>,
+    pub projection_tolerance: Option<f64>,
+    pub upper_offset: Option<f64>,
+    pub probes: Option<Vec<[f64; 2]>>,
+    pub boundary: Option<RawBoundary>,
+}

@@ -1,0 +1,39 @@
+//! Step 7 of fem-method §9: node-to-segment contact (hybrid model only), with the contact work
+//! W_con += Σ ⟨f_con⟩·(u_{n+1} − u_n) and the friction dissipation.
+
+use crate::contact;
+use crate::model::state::{Model, State, Workspace};
+use nalgebra::Vector2;
+use rayon::prelude::*;
+
+/// Runs `contact::resolve` at x_{n+1} and adds the contact forces into `ws.f`.
+pub(crate) fn contact(model: &Model, state: &mut State, ws: &mut Workspace) {
+    let (Some(params), Some(row), Some(cp)) = (&model.contact, &model.iface, state.contact.as_mut()) else {
+        return;
+    };
+    ws.x.par_iter_mut()
+        .zip(model.grid.x0.par_iter().zip(state.u.par_iter()))
+        .for_each(|(x, (x0, u))| *x = x0 + u);
+    let summary = contact::resolve(
+        params,
+        &mut cp.surface,
+        &ws.x,
+        &state.tied_twin,
+        &mut cp.state,
+        &mut cp.ws,
+        &mut ws.f_con,
+    );
+    state.energy.friction += summary.friction_dissipation;
+    cp.max_penetration = summary.max_penetration;
+    let mut work = 0.0;
+    for (slot, &node) in row.minus.iter().chain(row.plus.iter()).enumerate() {
+        let n = node as usize;
+        let fc = ws.f_con[n];
+        let du = state.u[n] - ws.row_u_old[slot];
+        work += 0.5 * (cp.f_prev[slot] + fc).dot(&du);
+        cp.f_prev[slot] = fc;
+        ws.f[n] += fc;
+        ws.f_con[n] = Vector2::zeros();
+    }
+    state.energy.contact_work += work;
+}

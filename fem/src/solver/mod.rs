@@ -1,0 +1,5 @@
+//! Explicit central-difference integration and the run loop.
+
+pub mod central_difference;
+pub(crate) mod contact_step;
+pub mod run;

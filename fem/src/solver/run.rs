@@ -1,0 +1,58 @@
+//! The time loop: steps from 0 to T, samples every `output_interval`, stops on instability with
+//! the output computed so far (RunError::Unstable).
+
+use crate::diag::{Observer, Recorder, tips};
+use crate::error::RunError;
+use crate::model::build::build;
+use crate::output::RunOutput;
+use crate::scene::Scene;
+use crate::solver::central_difference::step;
+
+/// Runs the scene from t = 0 to T.
+pub fn run(scene: &Scene) -> Result<RunOutput, RunError> {
+    run_with_progress(scene, &mut |_, _| {})
+}
+
+/// As [`run`]; `progress(steps_done, total_steps)` is called at most a few hundred times.
+pub fn run_with_progress(scene: &Scene, progress: &mut dyn FnMut(u64, u64)) -> Result<RunOutput, RunError> {
+    let (model, mut state, mut ws) = build(scene)?;
+    let dt = model.dt;
+    let total = (scene.duration() / dt).ceil() as u64;
+    let every = ((scene.fem.output_interval / dt).round() as u64).max(1);
+    let report = (total / 200).max(1);
+    let mut out = RunOutput {
+        time_step: dt,
+        lateral_contraction: model.lateral_contraction,
+        ..RunOutput::default()
+    };
+    Recorder { out: &mut out }.observe(&model, &state, &ws);
+    for n in 1..=total {
+        let sample = n % every == 0 || n == total;
+        if let Err(b) = step(&model, &mut state, &mut ws, sample) {
+            let x = model.grid.x0[b.node];
+            let v = state.v[b.node];
+            out.steps = state.step;
+            out.arrivals = tips::arrivals(&model, &state);
+            (out.cohesive_seconds, out.contact_seconds) = ws.profile_seconds();
+            return Err(RunError::Unstable {
+                step: state.step,
+                time_s: state.t,
+                location: format!(
+                    "node {} at ({:.6}, {:.6}) m, velocity ({:.3e}, {:.3e}) m/s",
+                    b.node, x.x, x.y, v.x, v.y
+                ),
+                partial: Box::new(out),
+            });
+        }
+        if sample {
+            Recorder { out: &mut out }.observe(&model, &state, &ws);
+        }
+        if n % report == 0 || n == total {
+            progress(n, total);
+        }
+    }
+    out.steps = state.step;
+    out.arrivals = tips::arrivals(&model, &state);
+    (out.cohesive_seconds, out.contact_seconds) = ws.profile_seconds();
+    Ok(out)
+}
