@@ -135,27 +135,131 @@ pub(crate) fn extrapolate(sig: &[[f64; 3]; 4], xi: f64, eta: f64) -> [f64; 3] {
 }
 
 /// f = −f_int(u) for every node (overwrites `f`), gathering per node from the ≤ 4 adjacent
-/// elements: f_a −= Σ_e K_e[a-rows] u_e. Parallel over layers; each task writes only its own layer.
+/// elements: f_a −= Σ_e K_e[a-rows] u_e. Parallel over layers; each task writes only its own
+/// layer, so there is no race. With a shared K_e the interior nodes use a precomputed 2×3×2
+/// stencil of 2×2 blocks per adjacent element row (same arithmetic, fewer index computations).
 pub(crate) fn internal_forces(grid: &Grid, k: &Stiffness, u: &[Vector2<f64>], f: &mut [Vector2<f64>]) {
     let nx = grid.nx;
-    f.par_chunks_mut(nx + 1).enumerate().for_each(|(layer, fl)| {
+    let w = nx + 1;
+    let stencil = match k {
+        Stiffness::Shared(ke) => Some(Stencil::new(ke)),
+        Stiffness::PerElement(_) => None,
+    };
+    f.par_chunks_mut(w).enumerate().for_each(|(layer, fl)| {
         let (below, above) = grid.layer_element_rows(layer);
-        for (i, fi) in fl.iter_mut().enumerate() {
-            let mut acc = Vector2::zeros();
-            // (element row, local index of this node for element column i−1, for column i)
-            for (row, locals) in [(below, [2usize, 3usize]), (above, [1, 0])] {
-                let Some(r) = row else { continue };
-                for (col, la) in [(i.wrapping_sub(1), locals[0]), (i, locals[1])] {
-                    if col >= nx {
-                        continue;
+        let generic = |i: usize| node_force(grid, k, below, above, i, u);
+        match &stencil {
+            Some(st) if nx >= 2 => {
+                fl[0] = generic(0);
+                fl[nx] = generic(nx);
+                let lo = below.map(|_| &u[(layer - 1) * w..layer * w]);
+                let mid = &u[layer * w..(layer + 1) * w];
+                let hi = above.map(|_| &u[(layer + 1) * w..(layer + 2) * w]);
+                for i in 1..nx {
+                    let mut acc = [0.0; 2];
+                    if let Some(lo) = lo {
+                        st.apply(&st.below, lo, mid, i, &mut acc);
                     }
-                    let e = r * nx + col;
-                    acc += element_row_force(k.get(e), la, &grid.element_nodes(e), u);
+                    if let Some(hi) = hi {
+                        st.apply(&st.above, mid, hi, i, &mut acc);
+                    }
+                    fl[i] = Vector2::new(-acc[0], -acc[1]);
                 }
             }
-            *fi = -acc;
+            _ => {
+                for (i, fi) in fl.iter_mut().enumerate() {
+                    *fi = generic(i);
+                }
+            }
         }
     });
+}
+
+/// −Σ_e K_e[a-rows] u_e for the node of column i of a layer touching element rows (below, above).
+fn node_force(
+    grid: &Grid,
+    k: &Stiffness,
+    below: Option<usize>,
+    above: Option<usize>,
+    i: usize,
+    u: &[Vector2<f64>],
+) -> Vector2<f64> {
+    let nx = grid.nx;
+    let mut acc = Vector2::zeros();
+    // (element row, local index of this node for element column i−1, for column i)
+    for (row, locals) in [(below, [2usize, 3usize]), (above, [1, 0])] {
+        let Some(r) = row else { continue };
+        for (col, la) in [(i.wrapping_sub(1), locals[0]), (i, locals[1])] {
+            if col >= nx {
+                continue;
+            }
+            let e = r * nx + col;
+            acc += element_row_force(k.get(e), la, &grid.element_nodes(e), u);
+        }
+    }
+    -acc
+}
+
+/// Interior-node stencil of a shared K_e: per adjacent element row, blocks[layer offset][column offset + 1]
+/// (2×2, row-major) multiplying u of the lower/upper layer of that row.
+struct Stencil {
+    below: [[[f64; 4]; 3]; 2],
+    above: [[[f64; 4]; 3]; 2],
+}
+
+impl Stencil {
+    fn new(k: &Ke) -> Stencil {
+        let block = |a: usize, b: usize| {
+            [
+                k[2 * a][2 * b],
+                k[2 * a][2 * b + 1],
+                k[2 * a + 1][2 * b],
+                k[2 * a + 1][2 * b + 1],
+            ]
+        };
+        let mut st = Stencil {
+            below: [[[0.0; 4]; 3]; 2],
+            above: [[[0.0; 4]; 3]; 2],
+        };
+        // element nodes b = 0..3 at (layer offset, column offset) relative to the node, per (element, local a)
+        let below_elems = [
+            (2usize, [(0usize, 0usize), (0, 1), (1, 1), (1, 0)]),
+            (3, [(0, 1), (0, 2), (1, 2), (1, 1)]),
+        ];
+        let above_elems = [
+            (1usize, [(0usize, 0usize), (0, 1), (1, 1), (1, 0)]),
+            (0, [(0, 1), (0, 2), (1, 2), (1, 1)]),
+        ];
+        for (target, elems) in [(&mut st.below, below_elems), (&mut st.above, above_elems)] {
+            for (a, nodes) in elems {
+                for (b, (lo, col)) in nodes.iter().enumerate() {
+                    let blk = block(a, b);
+                    for (t, v) in target[*lo][*col].iter_mut().zip(blk) {
+                        *t += v;
+                    }
+                }
+            }
+        }
+        st
+    }
+
+    #[inline(always)]
+    fn apply(
+        &self,
+        blocks: &[[[f64; 4]; 3]; 2],
+        lower: &[Vector2<f64>],
+        upper: &[Vector2<f64>],
+        i: usize,
+        acc: &mut [f64; 2],
+    ) {
+        for (layer, blk) in [lower, upper].iter().zip(blocks) {
+            for (dc, m) in blk.iter().enumerate() {
+                let ub = layer[i + dc - 1];
+                acc[0] += m[0] * ub.x + m[1] * ub.y;
+                acc[1] += m[2] * ub.x + m[3] * ub.y;
+            }
+        }
+    }
 }
 
 #[inline(always)]
@@ -222,6 +326,36 @@ mod tests {
         }
         let bad = [c[0], c[3], c[2], c[1]];
         assert!(stiffness(&bad, &d).is_err());
+    }
+
+    #[test]
+    fn shared_stencil_equals_per_element_path() {
+        use crate::mesh::structured::GridSpec;
+        let grid = Grid::new(&GridSpec {
+            x_range: [0.0, 5.0],
+            y_range: [-2.0, 2.0],
+            nx: 5,
+            ny: 4,
+            twinned_row: Some(2),
+            upper_shift: 0.0,
+            row_map: None,
+        });
+        let d = crate::law::elastic::PlaneStrain::new(70e6, 0.35, 1230.0).d_matrix();
+        let k = stiffness(&grid.element_coords(0), &d).unwrap();
+        let u: Vec<Vector2<f64>> = (0..grid.num_nodes())
+            .map(|n| Vector2::new((n as f64 * 0.37).sin(), (n as f64 * 0.11).cos()) * 1e-3)
+            .collect();
+        let (mut f1, mut f2) = (vec![Vector2::zeros(); u.len()], vec![Vector2::zeros(); u.len()]);
+        internal_forces(&grid, &Stiffness::Shared(Box::new(k)), &u, &mut f1);
+        internal_forces(
+            &grid,
+            &Stiffness::PerElement(vec![k; grid.num_elements()]),
+            &u,
+            &mut f2,
+        );
+        for (a, b) in f1.iter().zip(&f2) {
+            assert!((a - b).norm() <= 1e-12 * b.norm().max(1.0), "{a} vs {b}");
+        }
     }
 
     #[test]

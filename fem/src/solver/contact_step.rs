@@ -4,16 +4,17 @@
 use crate::contact;
 use crate::model::state::{Model, State, Workspace};
 use nalgebra::Vector2;
-use rayon::prelude::*;
 
 /// Runs `contact::resolve` at x_{n+1} and adds the contact forces into `ws.f`.
 pub(crate) fn contact(model: &Model, state: &mut State, ws: &mut Workspace) {
     let (Some(params), Some(row), Some(cp)) = (&model.contact, &model.iface, state.contact.as_mut()) else {
         return;
     };
-    ws.x.par_iter_mut()
-        .zip(model.grid.x0.par_iter().zip(state.u.par_iter()))
-        .for_each(|(x, (x0, u))| *x = x0 + u);
+    // N_det lies on the interface row: only those positions are read by `resolve`.
+    for &n in row.minus.iter().chain(row.plus.iter()) {
+        let n = n as usize;
+        ws.x[n] = model.grid.x0[n] + state.u[n];
+    }
     let summary = contact::resolve(
         params,
         &mut cp.surface,
