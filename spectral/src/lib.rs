@@ -1,2 +1,99 @@
-//! Spectral boundary-integral solver for a planar interface between identical half-spaces.
+//! Spectral boundary-integral (SBI) solver for a planar interface between two identical linear
+//! elastic half-spaces (plane strain, modes I + II), in the independent formulation of Breitenfeld &
+//! Geubelle (1998) as implemented in cRacklet, with the linear coupled cohesive law, contact by
+//! matching normal displacements and Prakash-regularised Coulomb friction (Pundir & Anciaux 2020,
+//! §3.2). Specification: shared/docs/spectral-method.md. SI units throughout.
+//!
+//! Public surface: [`Scene`], [`run`], [`run_with_progress`], [`RunOutput`], [`TipRecord`], errors;
+//! the building blocks ([`kernels`], [`elastodynamics`], [`law`]) are public for verification.
 #![warn(missing_docs)]
+
+mod convolution;
+mod diag;
+pub mod elastodynamics;
+mod error;
+mod fast;
+mod history;
+pub mod kernels;
+pub mod law;
+pub mod loading;
+mod modes;
+pub mod output;
+mod scene;
+mod solver;
+
+pub use elastodynamics::{ConvolutionStats, FaceFields, HalfSpaceParams, HalfSpaces};
+pub use error::{BuildError, RunError, SceneError};
+pub use output::{ContactMeanRecord, FieldRecord, RunOutput, RunStats, TipRecord, write_csv};
+pub use scene::{Convolution, DEFAULT_FAST_TOLERANCE, Nucleation, Ramp, Scene, WaveSpeeds, rayleigh_ratio};
+
+/// Runs the scene from t = 0 to T = `[loading].duration`.
+pub fn run(scene: &Scene) -> Result<RunOutput, RunError> {
+    run_with_progress(scene, &mut |_, _| {})
+}
+
+/// Number of sample times k·interval ≤ duration (+1 for t = 0).
+fn samples(duration: f64, interval: f64) -> usize {
+    (duration / interval).floor() as usize + 2
+}
+
+/// As [`run`]; `progress(steps_done, total_steps)` is called at most ~200 times.
+pub fn run_with_progress(scene: &Scene, progress: &mut dyn FnMut(u64, u64)) -> Result<RunOutput, RunError> {
+    let (model, mut st, mut ws) = solver::build(scene)?;
+    let last = scene.last_step();
+    let total = last + 1;
+    let dt = model.dt;
+    let field_interval = scene.field_output_interval;
+    let conv = ws.half.stats();
+    let mut out = RunOutput {
+        time_step: dt,
+        grid_spacing: scene.grid_spacing(),
+        tips: Vec::with_capacity(total as usize),
+        contact: Vec::with_capacity(samples(scene.duration, scene.output_interval)),
+        fields: Vec::with_capacity(field_interval.map_or(0, |fi| samples(scene.duration, fi) * model.n)),
+        stats: RunStats {
+            steps: 0,
+            grid_points: model.n as u64,
+            history_entries: conv.history_entries,
+            bytes_per_step: conv.bytes_per_step,
+            exp_terms: conv.exp_terms,
+            fit_error: conv.fit_error,
+        },
+    };
+    let (mut next_contact, mut next_field) = (0u64, 0u64);
+    let report_every = (total / 200).max(1);
+    for n in 0..=last {
+        let t = n as f64 * dt;
+        if let Some(m) = solver::step(&model, &mut st, &mut ws, n) {
+            return Err(RunError::Unstable {
+                step: n,
+                time_s: t,
+                location: format!(
+                    "grid point {m} (x = {} m): face velocity non-finite or > c_s",
+                    model.x[m]
+                ),
+                partial: Box::new(out),
+            });
+        }
+        out.stats.steps = n + 1;
+        out.tips.push(diag::tips(&model, &st, t));
+        if t >= next_contact as f64 * scene.output_interval - 1e-9 * dt {
+            out.contact.push(diag::contact_means(&model, &st, t));
+            next_contact += 1;
+        }
+        if let Some(fi) = field_interval
+            && t >= next_field as f64 * fi - 1e-9 * dt
+        {
+            diag::fields(&model, &st, t, &mut out.fields);
+            next_field += 1;
+        }
+        if n < last {
+            solver::advance(&model, &mut st);
+        }
+        if n % report_every == 0 {
+            progress(n + 1, total);
+        }
+    }
+    progress(total, total);
+    Ok(out)
+}

@@ -3,6 +3,14 @@
 //! README's test command builds them all.
 
 // ---- spectral claims (issue: spectral) ----
+#[cfg(feature = "spectral")]
+mod spectral_common;
+#[cfg(feature = "spectral")]
+mod spectral_kernels;
+#[cfg(feature = "spectral")]
+mod spectral_radiation;
+#[cfg(feature = "spectral")]
+mod spectral_single_mode;
 
 // ---- fem claims (issue: fem) ----
 

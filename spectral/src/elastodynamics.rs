@@ -1,0 +1,241 @@
+//! The elastodynamic operator of both half-spaces (spectral-method.md §2, independent formulation):
+//! given the face displacements u^{±,n}, returns the history terms f^{±,n} so that
+//! T^± = T^0 ∓ Z v^± + f^± (Z = μ/c_s in x, η μ/c_s in y).
+//!
+//! F^±_1 = ∓ μk (H11 ∗ Û^±_1) + i μk [(2−η) Û^±_2 + K12 ∗ Û^±_2]
+//! F^±_2 = ∓ μk (H22 ∗ Û^±_2) − i μk [(2−η) Û^±_1 + K12 ∗ Û^±_1]
+//! (k ≥ 0 from the real FFT; F(k=0) = 0; the i k terms dropped at Nyquist, §2 and §8.)
+
+use std::sync::Arc;
+
+use rustfft::num_complex::Complex64;
+use rustfft::{Fft, FftPlanner};
+
+use crate::convolution::{self, ModeSums, Weights};
+use crate::error::BuildError;
+use crate::fast::{FastConvolution, SoeFit};
+use crate::history::{Entry, History};
+use crate::kernels::Kernels;
+use crate::modes::Modes;
+use crate::scene::Convolution;
+
+/// Parameters of the half-space pair (identical materials).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HalfSpaceParams {
+    /// Shear modulus μ [Pa].
+    pub shear_modulus: f64,
+    /// Shear wave speed c_s [m/s].
+    pub cs: f64,
+    /// η = c_d/c_s [-].
+    pub eta: f64,
+    /// Number of grid points N [-] (even).
+    pub grid_points: usize,
+    /// Periodic length X [m].
+    pub length: f64,
+    /// CFL parameter β = c_s Δt/Δx [-].
+    pub cs_dt_over_dx: f64,
+    /// Kernel truncation tcut [-].
+    pub kernel_cutoff: f64,
+    /// Number of steps the run will take (caps the windows) [-].
+    pub max_steps: usize,
+    /// Convolution path.
+    pub convolution: Convolution,
+    /// Fast path: kernel-fit tolerance relative to max|K| [-].
+    pub fast_tolerance: f64,
+}
+
+/// Displacement, velocity or traction fields of both faces on the grid (SoA).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FaceFields {
+    /// Top face (y = 0⁺), x component.
+    pub top_x: Vec<f64>,
+    /// Top face, y component.
+    pub top_y: Vec<f64>,
+    /// Bottom face (y = 0⁻), x component.
+    pub bottom_x: Vec<f64>,
+    /// Bottom face, y component.
+    pub bottom_y: Vec<f64>,
+}
+
+impl FaceFields {
+    /// Zero fields on n points.
+    pub fn zeros(n: usize) -> FaceFields {
+        FaceFields {
+            top_x: vec![0.0; n],
+            top_y: vec![0.0; n],
+            bottom_x: vec![0.0; n],
+            bottom_y: vec![0.0; n],
+        }
+    }
+}
+
+enum Path {
+    Direct {
+        history: Box<History>,
+        weights: Box<Weights>,
+    },
+    Fast(Box<FastConvolution>),
+}
+
+/// Cost figures of the convolution path.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+pub struct ConvolutionStats {
+    /// Σ_j L_j: stored history steps over all modes [-].
+    pub history_entries: u64,
+    /// Bytes of history + weights streamed per step once the windows are full [B].
+    pub bytes_per_step: u64,
+    /// Fast path: exponential terms shared by the three kernels (0 for direct) [-].
+    pub exp_terms: u64,
+    /// Fast path: achieved max fit error relative to max|K| (0 for direct) [-].
+    pub fit_error: f64,
+}
+
+/// The operator u^n → f^n with its history, FFT plans and buffers (allocated once).
+pub struct HalfSpaces {
+    p: HalfSpaceParams,
+    modes: Modes,
+    path: Path,
+    fwd: Arc<dyn Fft<f64>>,
+    inv: Arc<dyn Fft<f64>>,
+    a: Vec<Complex64>,
+    b: Vec<Complex64>,
+    scratch: Vec<Complex64>,
+    spectra: Vec<Entry>,
+    sums: Vec<ModeSums>,
+    stats: ConvolutionStats,
+}
+
+impl HalfSpaces {
+    /// Builds kernels, windows, history and FFT plans.
+    pub fn new(p: &HalfSpaceParams) -> Result<HalfSpaces, BuildError> {
+        let n = p.grid_points;
+        let modes = Modes::new(n, p.length, p.cs_dt_over_dx, p.kernel_cutoff, p.max_steps);
+        let kernels = Kernels::new(p.eta, p.kernel_cutoff);
+        let mut stats = ConvolutionStats {
+            history_entries: modes.total as u64,
+            ..Default::default()
+        };
+        let path = match p.convolution {
+            Convolution::Direct => {
+                let table = kernels.tabulate(modes.dt1, modes.max_sample() + 1);
+                let weights = Weights::new(&modes, &table);
+                let history = History::new(&modes);
+                stats.bytes_per_step = (modes.total * std::mem::size_of::<Entry>() + weights.bytes()) as u64;
+                Path::Direct {
+                    history: Box::new(history),
+                    weights: Box::new(weights),
+                }
+            }
+            Convolution::Fast => {
+                let fit = SoeFit::fit(&kernels, p.kernel_cutoff, p.fast_tolerance)?;
+                stats.history_entries = 0;
+                stats.exp_terms = fit.terms() as u64;
+                stats.fit_error = fit.max_error;
+                let fast = FastConvolution::new(&modes, &fit);
+                stats.bytes_per_step = fast.bytes() as u64;
+                Path::Fast(Box::new(fast))
+            }
+        };
+        let mut planner = FftPlanner::new();
+        let fwd = planner.plan_fft_forward(n);
+        let inv = planner.plan_fft_inverse(n);
+        let scratch_len = fwd.get_inplace_scratch_len().max(inv.get_inplace_scratch_len());
+        Ok(HalfSpaces {
+            p: *p,
+            path,
+            fwd,
+            inv,
+            a: vec![Complex64::default(); n],
+            b: vec![Complex64::default(); n],
+            scratch: vec![Complex64::default(); scratch_len],
+            spectra: vec![Entry::default(); n / 2 + 1],
+            sums: vec![ModeSums::default(); n / 2 + 1],
+            modes,
+            stats,
+        })
+    }
+
+    /// Cost figures of the chosen path.
+    pub fn stats(&self) -> ConvolutionStats {
+        self.stats
+    }
+
+    /// For benchmarks: treats every history window as full (of zeros), so one step streams the
+    /// whole history as in the late part of a long run. No effect on the fast path.
+    pub fn assume_full_history(&mut self) {
+        if let Path::Direct { history, .. } = &mut self.path {
+            history.assume_full();
+        }
+    }
+
+    /// Records u^n in the history and writes f^n (§4 steps 2–4). Call once per step, in order.
+    pub fn step(&mut self, u: &FaceFields, f: &mut FaceFields) {
+        self.forward(u);
+        match &mut self.path {
+            Path::Direct { history, weights } => {
+                history.push(&self.spectra);
+                convolution::convolve(history, weights, &mut self.sums);
+            }
+            Path::Fast(fast) => fast.step(&self.spectra, &mut self.sums),
+        }
+        self.assemble();
+        self.inverse(f);
+    }
+
+    /// Two complex FFTs of the packed real fields; spectra j = 0..=N/2 of the four fields.
+    fn forward(&mut self, u: &FaceFields) {
+        let n = self.p.grid_points;
+        for m in 0..n {
+            self.a[m] = Complex64::new(u.top_x[m], u.top_y[m]);
+            self.b[m] = Complex64::new(u.bottom_x[m], u.bottom_y[m]);
+        }
+        self.fwd.process_with_scratch(&mut self.a, &mut self.scratch);
+        self.fwd.process_with_scratch(&mut self.b, &mut self.scratch);
+        let half_i = Complex64::new(0.0, -0.5);
+        for j in 0..=n / 2 {
+            let (aj, an) = (self.a[j], self.a[(n - j) % n].conj());
+            let (bj, bn) = (self.b[j], self.b[(n - j) % n].conj());
+            self.spectra[j] = Entry {
+                top_x: 0.5 * (aj + an),
+                top_y: half_i * (aj - an),
+                bottom_x: 0.5 * (bj + bn),
+                bottom_y: half_i * (bj - bn),
+            };
+        }
+    }
+
+    /// F^±(k_j) from the convolutions and the instantaneous (2−η) coupling, packed for the inverse.
+    fn assemble(&mut self) {
+        let n = self.p.grid_points;
+        let (mu, c) = (self.p.shear_modulus, 2.0 - self.p.eta);
+        let i = Complex64::new(0.0, 1.0);
+        self.a[0] = Complex64::default();
+        self.b[0] = Complex64::default();
+        for j in 1..=n / 2 {
+            let (s, e, muk) = (&self.sums[j], &self.spectra[j], mu * self.modes.k[j]);
+            let couple = if j == n / 2 { 0.0 } else { muk };
+            let f1t = -muk * s.h11_top + i * couple * (c * e.top_y + s.k12_top_y);
+            let f1b = muk * s.h11_bottom + i * couple * (c * e.bottom_y + s.k12_bottom_y);
+            let f2t = -muk * s.h22_top - i * couple * (c * e.top_x + s.k12_top_x);
+            let f2b = muk * s.h22_bottom - i * couple * (c * e.bottom_x + s.k12_bottom_x);
+            self.a[j] = f1t + i * f2t;
+            self.b[j] = f1b + i * f2b;
+            if j != n / 2 {
+                self.a[n - j] = f1t.conj() + i * f2t.conj();
+                self.b[n - j] = f1b.conj() + i * f2b.conj();
+            }
+        }
+    }
+
+    fn inverse(&mut self, f: &mut FaceFields) {
+        self.inv.process_with_scratch(&mut self.a, &mut self.scratch);
+        self.inv.process_with_scratch(&mut self.b, &mut self.scratch);
+        let scale = 1.0 / self.p.grid_points as f64;
+        for m in 0..self.p.grid_points {
+            f.top_x[m] = self.a[m].re * scale;
+            f.top_y[m] = self.a[m].im * scale;
+            f.bottom_x[m] = self.b[m].re * scale;
+            f.bottom_y[m] = self.b[m].im * scale;
+        }
+    }
+}

@@ -1,0 +1,92 @@
+//! Shared helpers of the spectral claims: reference tables, dimensionless scenes (§7.7), and runs
+//! shared between claims (one centre-crack run per friction value for the whole test binary).
+
+use std::sync::OnceLock;
+
+use spectral::{RunOutput, Scene, TipRecord};
+use validation::{repo_root, scene_text, with_overrides};
+
+/// Rows of a reference CSV with a header line (numbers only).
+pub fn reference_rows(name: &str) -> Vec<Vec<f64>> {
+    let path = repo_root().join("reference").join(name);
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    text.lines()
+        .skip(1)
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| l.split(',').map(|v| v.trim().parse().expect("number")).collect())
+        .collect()
+}
+
+/// η for ν = 0.35 [-].
+pub fn eta_035() -> f64 {
+    (2.0 * (1.0 - 0.35) / (1.0 - 2.0 * 0.35) as f64).sqrt()
+}
+
+/// Scene from a named scene file with overrides.
+pub fn scene(name: &str, overrides: &[(&str, Option<toml::Value>)]) -> Scene {
+    let text = with_overrides(&scene_text(name), overrides);
+    Scene::from_toml_str(&text).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+/// Float override.
+pub fn f(key: &str, v: f64) -> (&str, Option<toml::Value>) {
+    (key, Some(toml::Value::Float(v)))
+}
+
+/// Runs a scene, panicking with the error (tests only).
+pub fn run(scene: &Scene) -> RunOutput {
+    spectral::run(scene).unwrap_or_else(|e| panic!("run failed: {e}"))
+}
+
+/// Centre-crack run at paper resolution with friction `mu` (0 or 0.3), computed once per test
+/// binary and shared by the claims that read it (friction, onset, resolution).
+pub fn center_crack(mu: f64) -> &'static RunOutput {
+    static MU0: OnceLock<RunOutput> = OnceLock::new();
+    static MU03: OnceLock<RunOutput> = OnceLock::new();
+    let cell = if mu == 0.0 { &MU0 } else { &MU03 };
+    cell.get_or_init(|| run(&scene("center-crack", &[f("friction.friction_coeff", mu)])))
+}
+
+/// First time [s] the right or left crack tip has left the pre-crack tip by at least one grid point.
+pub fn onset_time(tips: &[TipRecord]) -> Option<f64> {
+    let (r0, l0) = (tips[0].tip_right, tips[0].tip_left);
+    tips.iter()
+        .find(|r| r.tip_right > r0 || r.tip_left < l0)
+        .map(|r| r.t)
+}
+
+/// First time [s] the right tip reaches x ≥ `x` [m].
+pub fn crossing_time(tips: &[TipRecord], x: f64) -> Option<f64> {
+    tips.iter().find(|r| r.tip_right >= x).map(|r| r.t)
+}
+
+/// Least-squares slope of (t, x) pairs [m/s].
+pub fn slope(points: &[(f64, f64)]) -> f64 {
+    let n = points.len() as f64;
+    let (mt, mx) = points
+        .iter()
+        .fold((0.0, 0.0), |(a, b), p| (a + p.0 / n, b + p.1 / n));
+    let (num, den) = points.iter().fold((0.0, 0.0), |(a, b), p| {
+        (a + (p.0 - mt) * (p.1 - mx), b + (p.0 - mt).powi(2))
+    });
+    num / den
+}
+
+/// Windowed least-squares speed of the right tip: (t_mid, half_length, speed) for windows of
+/// length `window` [s] advanced by `window/4`.
+pub fn windowed_speeds(tips: &[TipRecord], center: f64, window: f64) -> Vec<(f64, f64, f64)> {
+    let mut out = Vec::new();
+    let t_end = tips.last().map_or(0.0, |r| r.t);
+    let mut t0 = 0.0;
+    while t0 + window <= t_end {
+        let pts: Vec<(f64, f64)> = tips
+            .iter()
+            .filter(|r| r.t >= t0 && r.t <= t0 + window)
+            .map(|r| (r.t, r.tip_right))
+            .collect();
+        let mid = pts[pts.len() / 2];
+        out.push((mid.0, mid.1 - center, slope(&pts)));
+        t0 += 0.25 * window;
+    }
+    out
+}
