@@ -3,7 +3,12 @@
 //! tolerances, writes CSV and PNG.
 
 pub mod align;
+pub mod fem_figures;
+pub mod figures;
+pub mod gate;
 pub mod metrics;
+pub mod models;
 pub mod output;
 pub mod plot;
 pub mod scene;
+pub mod sweep;

@@ -1,0 +1,231 @@
+//! The comparison figures of the paper (Figures 5b, 6a–c, 7a–b, 8a–b, B.14a), built from the
+//! runs' records and drawn by `plot`. File names are listed in the README.
+
+use crate::align::{Series, TipRow};
+use crate::metrics::onset;
+use crate::models::Case;
+use crate::plot::{self, Curve, Dash, Field, Labels, Mark, PALETTE, Scale};
+use anyhow::Result;
+use plotters::style::{BLACK, RGBColor};
+use std::path::{Path, PathBuf};
+
+/// Both models' tip histories for one friction coefficient.
+#[derive(Debug, Clone)]
+pub struct MuRuns {
+    /// Friction coefficient μ [-].
+    pub mu: f64,
+    /// FE tips.
+    pub fem: Vec<TipRow>,
+    /// Spectral tips (unshifted).
+    pub spectral: Vec<TipRow>,
+}
+
+/// Least-squares half-window for tip speeds, in output samples: ±5 samples of 2e-5 s is
+/// ±1e-4 s, in which a crack at c_R runs ~14 elements (fem-method §8: a few h/c_R at least).
+const SPEED_HALF_WINDOW: usize = 5;
+
+fn normalised(s: &Series, case: &Case, t_origin: f64) -> Vec<(f64, f64)> {
+    s.t.iter()
+        .zip(&s.y)
+        .map(|(t, y)| ((t - t_origin) / case.duration, y / case.half_length))
+        .collect()
+}
+
+fn curve(label: String, points: Vec<(f64, f64)>, i: usize, dash: Dash) -> Curve {
+    Curve {
+        label,
+        points,
+        color: PALETTE[i % PALETTE.len()],
+        dash,
+    }
+}
+
+/// Which alignment a tip-position figure shows.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Alignment {
+    /// As computed (Figure 7a), with the a/c_d marks.
+    Raw,
+    /// Spectral shifted by a/c_d (Figure 7b).
+    Shifted,
+    /// Each model from its own onset (Figure 8a).
+    CommonOrigin,
+}
+
+fn tip_figure(path: &Path, case: &Case, runs: &[MuRuns], how: Alignment) -> Result<()> {
+    let mut curves = Vec::new();
+    let mut marks = Vec::new();
+    for (i, r) in runs.iter().enumerate() {
+        let f = Series::half_length(&r.fem);
+        let s = Series::half_length(&r.spectral);
+        let (of, os) = match how {
+            Alignment::Raw => (0.0, 0.0),
+            Alignment::Shifted => (0.0, -case.shift()),
+            Alignment::CommonOrigin => (
+                onset(&f, case.half_length).unwrap_or(f64::NAN),
+                onset(&s, case.half_length).unwrap_or(f64::NAN),
+            ),
+        };
+        if how == Alignment::Raw
+            && let Some(ts) = onset(&s, case.half_length)
+        {
+            marks.push(Mark::Vertical(
+                (ts + case.shift()) / case.duration,
+                PALETTE[i % PALETTE.len()],
+            ));
+        }
+        curves.push(curve(
+            format!("FE, μ = {}", r.mu),
+            normalised(&f, case, of),
+            i,
+            Dash::Solid,
+        ));
+        curves.push(curve(
+            format!("spectral, μ = {}", r.mu),
+            normalised(&s, case, os),
+            i,
+            Dash::Dashed,
+        ));
+    }
+    let (title, x) = match how {
+        Alignment::Raw => (
+            "Crack-tip position (dashed verticals: spectral onset + a/c_d)",
+            "t/T [-]",
+        ),
+        Alignment::Shifted => ("Crack-tip position, spectral shifted by a/c_d", "t/T [-]"),
+        Alignment::CommonOrigin => (
+            "Crack-tip position from a common origin (onset)",
+            "(t − t_onset)/T [-]",
+        ),
+    };
+    let labels = Labels {
+        title,
+        x,
+        y: "crack half-length ℓ/a [-]",
+    };
+    plot::line_chart(path, labels, &curves, &marks)
+}
+
+fn velocity_figure(path: &Path, case: &Case, runs: &[MuRuns]) -> Result<()> {
+    let mut curves = Vec::new();
+    for (i, r) in runs.iter().enumerate() {
+        for (name, rows, shift, dash) in [
+            ("FE", &r.fem, 0.0, Dash::Solid),
+            ("spectral", &r.spectral, case.shift(), Dash::Dashed),
+        ] {
+            let v = Series::half_length(rows).slope(SPEED_HALF_WINDOW);
+            let pts =
+                v.t.iter()
+                    .zip(&v.y)
+                    .map(|(t, v)| ((t + shift) / case.duration, *v))
+                    .collect();
+            curves.push(curve(format!("{name}, μ = {}", r.mu), pts, i, dash));
+        }
+    }
+    let marks = [Mark::Horizontal(
+        case.cr,
+        BLACK,
+        format!("c_R = {:.1} m/s", case.cr),
+    )];
+    let labels = Labels {
+        title: "Crack-tip speed (spectral shifted by a/c_d)",
+        x: "t/T [-]",
+        y: "tip speed dℓ/dt [m/s]",
+    };
+    plot::line_chart(path, labels, &curves, &marks)
+}
+
+/// Draws Figures 7a, 7b, 8a, 8b into `dir`; returns the files written.
+pub fn tip_figures(dir: &Path, case: &Case, runs: &[MuRuns]) -> Result<Vec<PathBuf>> {
+    let files = [
+        ("fig7a_tip_position.png", Alignment::Raw),
+        ("fig7b_tip_position_shifted.png", Alignment::Shifted),
+        ("fig8a_tip_position_common_origin.png", Alignment::CommonOrigin),
+    ];
+    let mut written = Vec::new();
+    for (name, how) in files {
+        let p = dir.join(name);
+        tip_figure(&p, case, runs, how)?;
+        written.push(p);
+    }
+    let p = dir.join("fig8b_tip_velocity.png");
+    velocity_figure(&p, case, runs)?;
+    written.push(p);
+    Ok(written)
+}
+
+/// Builds a space-time field from (t, x, value) samples: one row per distinct time (records
+/// of one output time are contiguous), columns at the x positions of the first row; a sample
+/// goes to the column nearest its x.
+pub fn field_from(samples: impl Iterator<Item = (f64, f64, f64)>, case: &Case) -> Field {
+    let mut t_rows: Vec<f64> = Vec::new();
+    let mut rows: Vec<Vec<(f64, f64)>> = Vec::new();
+    for (t, x, v) in samples {
+        if t_rows.last() != Some(&t) {
+            t_rows.push(t);
+            rows.push(Vec::new());
+        }
+        rows.last_mut()
+            .expect("invariant: a row was just pushed")
+            .push((x, v));
+    }
+    let mut xs: Vec<f64> = rows
+        .first()
+        .map(|r| r.iter().map(|p| p.0).collect())
+        .unwrap_or_default();
+    xs.sort_by(f64::total_cmp);
+    xs.dedup();
+    let values = rows
+        .iter()
+        .map(|row| {
+            let mut out = vec![f64::NAN; xs.len()];
+            for &(x, v) in row {
+                let j = xs.partition_point(|&c| c < x);
+                let j = match (j.checked_sub(1), xs.get(j)) {
+                    (Some(i), Some(&c)) if (x - xs[i]).abs() < (c - x).abs() => i,
+                    (Some(i), None) => i,
+                    _ => j,
+                };
+                if let Some(o) = out.get_mut(j) {
+                    *o = v;
+                }
+            }
+            out
+        })
+        .collect();
+    Field {
+        x: xs
+            .iter()
+            .map(|x| (x - case.center_x) / case.half_length)
+            .collect(),
+        t: t_rows.iter().map(|t| t / case.duration).collect(),
+        values,
+    }
+}
+
+/// Space-time labels: x/a across, t/T up.
+pub fn space_time_labels(title: &str) -> Labels<'_> {
+    Labels {
+        title,
+        x: "(x − x_c)/a [-]",
+        y: "t/T [-]",
+    }
+}
+
+/// A curve of (t/T, value) points.
+pub fn time_curve(label: &str, points: Vec<(f64, f64)>, i: usize) -> Curve {
+    curve(label.to_string(), points, i, Dash::Solid)
+}
+
+/// A horizontal reference line.
+pub fn reference(y: f64, color: RGBColor, label: String) -> Mark {
+    Mark::Horizontal(y, color, label)
+}
+
+/// Colour scale helper.
+pub fn scale(min: f64, max: f64, label: &str) -> Scale {
+    Scale {
+        min,
+        max,
+        label: label.to_string(),
+    }
+}

@@ -1,0 +1,277 @@
+//! The speed/accuracy trade: each model at four resolutions, each point in its own child
+//! process so that its wall time and peak memory (VmHWM) are its own.
+//!
+//! FE: h ≈ 4, 2, 1, 0.5 mm, rounded to h = a/round(a/h) so the pre-crack tips and the domain
+//! edges stay on nodes (4 mm → a/31 = 4.03 mm). Spectral: the power-of-two N nearest to X/h
+//! (N = 1024 … 8192 for X = 30a), at the FE time step of the same point.
+
+use crate::align::Series;
+use crate::metrics::{mean_speed, onset};
+use crate::models;
+use crate::scene::with_overrides;
+use anyhow::{Context, Result, anyhow};
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+use toml::Value;
+
+/// Nominal FE element sizes of the sweep [m], coarse to fine.
+pub const NOMINAL_SIZES: [f64; 4] = [4e-3, 2e-3, 1e-3, 0.5e-3];
+
+/// Which model a sweep point runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Model {
+    /// The FE hybrid model.
+    Fem,
+    /// The spectral boundary-integral model.
+    Spectral,
+}
+
+/// One measured point: a row of `sweep.csv` before the error columns are filled.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+pub struct Point {
+    /// Model.
+    pub model: Model,
+    /// Nominal FE element size of the point [m].
+    pub nominal_size: f64,
+    /// Actual grid spacing: FE element size or spectral Δx [m].
+    pub spacing: f64,
+    /// Time step [s].
+    pub time_step: f64,
+    /// Wall time of the run [s].
+    pub wall_s: f64,
+    /// Peak resident memory of the process [bytes] (Linux VmHWM).
+    pub peak_memory_bytes: f64,
+    /// Onset time [s] (half-length advance of 0.05 a).
+    pub onset: f64,
+    /// Mean tip speed between 1.2a and 1.9a [m/s].
+    pub mean_speed: f64,
+}
+
+/// Actual FE element size [m] for a nominal one: a/round(a/h).
+pub fn fem_size(a: f64, nominal: f64) -> f64 {
+    a / (a / nominal).round()
+}
+
+/// Spectral grid points for a nominal spacing: the power of two nearest to X/h.
+pub fn spectral_points(length: f64, nominal: f64) -> usize {
+    let n = (length / nominal).log2().round() as u32;
+    1usize << n
+}
+
+fn peak_memory_bytes() -> f64 {
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))
+        .and_then(|v| v.split_whitespace().next()?.parse::<f64>().ok())
+        .map_or(f64::NAN, |kib| kib * 1024.0)
+}
+
+fn spectral_length(text: &str) -> Result<f64> {
+    let t: toml::Table = text.parse()?;
+    t.get("spectral")
+        .and_then(|s| s.get("length"))
+        .and_then(Value::as_float)
+        .ok_or_else(|| anyhow!("spectral.length: missing; the sweep needs the periodic length [m]"))
+}
+
+/// Runs one point in this process (the child side of the sweep).
+pub fn run_point(text: &str, model: Model, nominal: f64) -> Result<Point> {
+    let case = models::case(text)?;
+    let h = fem_size(case.half_length, nominal);
+    let text = with_overrides(text, &[("fem.element_size", Some(Value::Float(h)))])?;
+    let table: toml::Table = text.parse()?;
+    let friction = table
+        .get("friction")
+        .and_then(|f| f.get("friction_coeff"))
+        .and_then(Value::as_float)
+        .ok_or_else(|| {
+            anyhow!("friction.friction_coeff: missing; the sweep runs the scene's own friction")
+        })?;
+    let fem_scene = models::fem_scene(&text, friction)?;
+    let dt = fem_scene.time_step();
+    let start = Instant::now();
+    let (tips, spacing) = match model {
+        Model::Fem => {
+            let out = fem::run(&fem_scene).context("FE sweep run")?;
+            (models::fem_tips(&out), h)
+        }
+        Model::Spectral => {
+            let n = spectral_points(spectral_length(&text)?, nominal);
+            let text = with_overrides(&text, &[("spectral.grid_points", Some(Value::Integer(n as i64)))])?;
+            let scene = models::spectral_scene(&text, friction, dt)?;
+            let out = spectral::run(&scene).context("spectral sweep run")?;
+            (models::spectral_tips(&out), spectral_length(&text)? / n as f64)
+        }
+    };
+    let wall_s = start.elapsed().as_secs_f64();
+    let l = Series::half_length(&tips);
+    Ok(Point {
+        model,
+        nominal_size: nominal,
+        spacing,
+        time_step: dt,
+        wall_s,
+        peak_memory_bytes: peak_memory_bytes(),
+        onset: onset(&l, case.half_length).unwrap_or(f64::NAN),
+        mean_speed: mean_speed(&l, case.half_length).unwrap_or(f64::NAN),
+    })
+}
+
+/// A `sweep.csv` row: a point with its errors against the finest point of the same model.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+pub struct SweepRow {
+    /// The measured point.
+    #[serde(flatten)]
+    pub point: Point,
+    /// |onset − onset_finest| / T [-].
+    pub onset_error_over_t: f64,
+    /// |v − v_finest| / v_finest [-].
+    pub speed_error_rel: f64,
+}
+
+/// Errors of every point against the finest point of its model.
+pub fn with_errors(points: &[Point], duration: f64) -> Vec<SweepRow> {
+    points
+        .iter()
+        .map(|p| {
+            let finest = points
+                .iter()
+                .filter(|q| q.model == p.model)
+                .min_by(|a, b| a.spacing.total_cmp(&b.spacing))
+                .expect("invariant: p itself is in the list");
+            SweepRow {
+                point: *p,
+                onset_error_over_t: (p.onset - finest.onset).abs() / duration,
+                speed_error_rel: (p.mean_speed - finest.mean_speed).abs() / finest.mean_speed,
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_keep_the_crack_tip_on_a_node_and_grids_are_powers_of_two() {
+        let a = 0.125;
+        assert!((fem_size(a, 4e-3) - a / 31.0).abs() < 1e-15);
+        assert!((fem_size(a, 1e-3) - 1e-3).abs() < 1e-15);
+        assert_eq!(spectral_points(3.75, 4e-3), 1024);
+        assert_eq!(spectral_points(3.75, 1e-3), 4096);
+        assert_eq!(spectral_points(3.75, 0.5e-3), 8192);
+    }
+
+    #[test]
+    fn errors_are_measured_against_the_finest_point_of_each_model() {
+        let p = |model, spacing, onset, mean_speed| Point {
+            model,
+            nominal_size: spacing,
+            spacing,
+            time_step: 1e-6,
+            wall_s: 1.0,
+            peak_memory_bytes: 1.0,
+            onset,
+            mean_speed,
+        };
+        let rows = with_errors(
+            &[
+                p(Model::Fem, 2e-3, 0.012, 120.0),
+                p(Model::Fem, 1e-3, 0.011, 125.0),
+                p(Model::Spectral, 1e-3, 0.0, 1.0),
+            ],
+            0.02,
+        );
+        assert!((rows[0].onset_error_over_t - 0.05).abs() < 1e-12);
+        assert!((rows[0].speed_error_rel - 0.04).abs() < 1e-12);
+        assert_eq!(rows[1].onset_error_over_t, 0.0);
+        assert_eq!(rows[2].speed_error_rel, 0.0);
+    }
+}
+
+/// Runs every sweep point as a child `compare sweep-point` process of the executable `exe`,
+/// coarse to fine, FE then spectral; `on_point` sees each point as it arrives.
+pub fn run_children(
+    exe: &std::path::Path,
+    scene: &std::path::Path,
+    on_point: &mut dyn FnMut(&Point),
+) -> Result<Vec<Point>> {
+    let mut points = Vec::new();
+    for model in [Model::Fem, Model::Spectral] {
+        for h in NOMINAL_SIZES {
+            let tag = match model {
+                Model::Fem => "fem",
+                Model::Spectral => "spectral",
+            };
+            let out = std::process::Command::new(exe)
+                .args(["sweep-point", "--model", tag, "--size", &h.to_string(), "--scene"])
+                .arg(scene)
+                .stderr(std::process::Stdio::inherit())
+                .output()
+                .with_context(|| format!("starting {}", exe.display()))?;
+            if !out.status.success() {
+                return Err(anyhow!("sweep point {tag} h = {h} m failed ({})", out.status));
+            }
+            let mut rd = csv::Reader::from_reader(out.stdout.as_slice());
+            let p: Point = rd
+                .deserialize()
+                .next()
+                .ok_or_else(|| anyhow!("sweep point {tag} h = {h} m printed no result"))??;
+            on_point(&p);
+            points.push(p);
+        }
+    }
+    Ok(points)
+}
+
+/// Prints one point as CSV (header + row) on stdout: the child's answer to its parent.
+pub fn print_point(p: &Point) -> Result<()> {
+    let mut w = csv::Writer::from_writer(std::io::stdout());
+    w.serialize(p)?;
+    w.flush()?;
+    Ok(())
+}
+
+/// Writes `sweep.csv` and `sweep_error_vs_wall_time.png` (log10–log10) into `dir`.
+pub fn write_results(dir: &std::path::Path, rows: &[SweepRow]) -> Result<Vec<std::path::PathBuf>> {
+    use crate::plot::{Curve, Dash, Labels, PALETTE, line_chart};
+    std::fs::create_dir_all(dir)?;
+    let csv_path = crate::output::write_rows(&dir.join("sweep.csv"), rows)?;
+    let mut curves = Vec::new();
+    for (i, (model, name)) in [(Model::Fem, "FE"), (Model::Spectral, "spectral")]
+        .into_iter()
+        .enumerate()
+    {
+        let pick = |f: fn(&SweepRow) -> f64| -> Vec<(f64, f64)> {
+            rows.iter()
+                .filter(|r| r.point.model == model && f(r) > 0.0)
+                .map(|r| (r.point.wall_s.log10(), f(r).log10()))
+                .collect()
+        };
+        let onset = pick(|r| r.onset_error_over_t);
+        let speed = pick(|r| r.speed_error_rel);
+        let color = PALETTE[i];
+        curves.push(Curve {
+            label: format!("{name}: onset error / T"),
+            points: onset,
+            color,
+            dash: Dash::Solid,
+        });
+        curves.push(Curve {
+            label: format!("{name}: mean-speed rel. error"),
+            points: speed,
+            color,
+            dash: Dash::Dashed,
+        });
+    }
+    let png = dir.join("sweep_error_vs_wall_time.png");
+    let labels = Labels {
+        title: "Error against the finest run vs cost",
+        x: "log10(wall time [s])",
+        y: "log10(error [-])",
+    };
+    line_chart(&png, labels, &curves, &[])?;
+    Ok(vec![csv_path, png])
+}
