@@ -4,7 +4,7 @@
 
 use nalgebra::Vector2;
 
-use super::geometry::{Projection, point_at, segment_frame, shape};
+use super::geometry::{Projection, SegmentFrame, point_at, segment_frame, shape};
 use crate::law::friction::{Friction, FrictionInput, FrictionStep, return_map};
 use crate::law::penalty::normal_pressure;
 
@@ -15,20 +15,24 @@ pub(crate) const AVERAGING_WEIGHT: f64 = 0.5;
 /// Nodal areas A_i = |Σ_{e ∋ i} (L_e/2) n_e| [m] and slave normals n_i = normalise(Σ_{e ∋ i} n_e)
 /// [-] of the nodes of Γ_det, in current positions (fem-method §5).
 ///
+/// Also refills `frames` with every segment's frame (`None` for a degenerate segment).
 /// `area_sum` and `normal_sum` are per-node scratch; only entries of `nodes` are touched.
 pub(crate) fn node_geometry(
     segments: &[[u32; 2]],
     nodes: &[u32],
     x: &[Vector2<f64>],
-    area_sum: &mut [Vector2<f64>],
-    normal_sum: &mut [Vector2<f64>],
+    frames: &mut Vec<Option<SegmentFrame>>,
+    (area_sum, normal_sum): (&mut [Vector2<f64>], &mut [Vector2<f64>]),
 ) {
     for &i in nodes {
         area_sum[i as usize] = Vector2::zeros();
         normal_sum[i as usize] = Vector2::zeros();
     }
+    frames.clear(); // keeps the capacity: no allocation within `max_segments`
     for &[j1, j2] in segments {
-        let Some(frame) = segment_frame(x[j1 as usize], x[j2 as usize]) else {
+        let frame = segment_frame(x[j1 as usize], x[j2 as usize]);
+        frames.push(frame);
+        let Some(frame) = frame else {
             continue;
         };
         let half = frame.normal * (0.5 * frame.length);

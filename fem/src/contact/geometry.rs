@@ -62,17 +62,23 @@ pub(crate) struct Projection {
 }
 
 /// Projects `x_i` onto the segment (`x_j1`, `x_j2`), fem-method §5.1 step 2; `None` for a
-/// degenerate segment.
+/// degenerate segment. (The search calls [`project_on_frame`] with frames computed once per step.)
+#[cfg(test)]
 pub(crate) fn project(x_i: Vector2<f64>, x_j1: Vector2<f64>, x_j2: Vector2<f64>) -> Option<Projection> {
-    let frame = segment_frame(x_j1, x_j2)?;
+    Some(project_on_frame(x_i, x_j1, &segment_frame(x_j1, x_j2)?))
+}
+
+/// Same as [`project`] with the segment's frame already computed (the search computes each
+/// frame once per step, not once per candidate).
+pub(crate) fn project_on_frame(x_i: Vector2<f64>, x_j1: Vector2<f64>, frame: &SegmentFrame) -> Projection {
     let r = x_i - x_j1;
     let xi = 2.0 * r.dot(&frame.tangent) / frame.length - 1.0;
-    Some(Projection {
+    Projection {
         xi,
         xi_clamped: xi.clamp(-1.0, 1.0),
         gap: r.dot(&frame.normal),
-        frame,
-    })
+        frame: *frame,
+    }
 }
 
 #[cfg(test)]

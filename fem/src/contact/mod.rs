@@ -14,6 +14,7 @@ use nalgebra::Vector2;
 
 use crate::law::friction::Friction;
 use forces::{SlaveHistory, node_geometry, respond, scatter};
+use geometry::SegmentFrame;
 use search::{BucketGrid, Limits, Slave, closest_master};
 
 /// Parameters of the contact pass (fem-method §5).
@@ -136,6 +137,8 @@ impl ContactState {
 pub(crate) struct ContactWorkspace {
     /// Bucket grid of master segments.
     grid: BucketGrid,
+    /// Frame of every segment of Γ_det at the current positions (`None`: degenerate).
+    frames: Vec<Option<SegmentFrame>>,
     /// Per-node Σ (L_e/2) n_e [m].
     area_sum: Vec<Vector2<f64>>,
     /// Per-node slave normal n_i [-].
@@ -147,6 +150,7 @@ impl ContactWorkspace {
     pub fn new(num_nodes: usize, max_segments: usize) -> Self {
         Self {
             grid: BucketGrid::with_capacity(max_segments),
+            frames: Vec::with_capacity(max_segments),
             area_sum: vec![Vector2::zeros(); num_nodes],
             normal: vec![Vector2::zeros(); num_nodes],
         }
@@ -186,7 +190,13 @@ pub(crate) fn resolve(
     }
     let segments = surface.segments();
     let nodes = surface.nodes();
-    node_geometry(segments, nodes, x, &mut ws.area_sum, &mut ws.normal);
+    node_geometry(
+        segments,
+        nodes,
+        x,
+        &mut ws.frames,
+        (&mut ws.area_sum, &mut ws.normal),
+    );
     ws.grid.rebuild(segments, x, p.max_gap, p.projection_tolerance);
     let law = Friction {
         eps_t: p.eps_t,
@@ -206,7 +216,7 @@ pub(crate) fn resolve(
             tied_twin: tied_twin.get(i).copied().unwrap_or(u32::MAX),
             normal: ws.normal[i],
         };
-        let Some((e, proj)) = closest_master(&slave, &ws.grid, segments, x, &limits) else {
+        let Some((e, proj)) = closest_master(&slave, &ws.grid, segments, &ws.frames, x, &limits) else {
             state.clear(i);
             continue;
         };

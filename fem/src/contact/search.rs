@@ -4,7 +4,7 @@
 
 use nalgebra::Vector2;
 
-use super::geometry::{Projection, project};
+use super::geometry::{Projection, SegmentFrame, project_on_frame};
 
 /// Upper bound of grid cells per segment capacity: the cell size is enlarged until the grid fits.
 const CELLS_PER_SEGMENT: usize = 4;
@@ -147,12 +147,13 @@ impl BucketGrid {
         self.cell_start[0] = 0;
     }
 
+    // Truncation of a non-negative value is its floor (and avoids a libm call per query).
     fn ix(&self, x: f64) -> usize {
-        (((x - self.origin.x) / self.cell_size).floor().max(0.0) as usize).min(self.nx - 1)
+        (((x - self.origin.x) / self.cell_size).max(0.0) as usize).min(self.nx - 1)
     }
 
     fn iy(&self, y: f64) -> usize {
-        (((y - self.origin.y) / self.cell_size).floor().max(0.0) as usize).min(self.ny - 1)
+        (((y - self.origin.y) / self.cell_size).max(0.0) as usize).min(self.ny - 1)
     }
 
     /// Segments registered in the cell containing `p` (empty outside the grid).
@@ -204,12 +205,15 @@ pub(crate) struct Limits {
 
 /// Narrow phase for one slave, fem-method §5.1: among the grid candidates, drop segments attached
 /// to the node or to its tied twin; project; keep penetrating (g < 0) pairs with |g| ≤ d_max,
-/// ξ within tolerance and facing normals (n_i·n_e < 0); return the one with the smallest |g|
+/// facing normals (n_i·n_e < 0) and ξ within tolerance; return the one with the smallest |g|
 /// (fem-method §10.9; on ties the lowest segment index, for reproducibility).
+///
+/// `frames[e]` is segment e's frame at the current positions (`None`: degenerate, never a master).
 pub(crate) fn closest_master(
     slave: &Slave,
     grid: &BucketGrid,
     segments: &[[u32; 2]],
+    frames: &[Option<SegmentFrame>],
     x: &[Vector2<f64>],
     limits: &Limits,
 ) -> Option<(u32, Projection)> {
@@ -220,21 +224,23 @@ pub(crate) fn closest_master(
         let [j1, j2] = segments[e as usize];
         let attached = j1 == slave.node || j2 == slave.node;
         let twin = j1 == slave.tied_twin || j2 == slave.tied_twin;
+        let Some(frame) = &frames[e as usize] else {
+            continue;
+        };
         if attached || twin {
             continue;
         }
-        let Some(p) = project(x_i, x[j1 as usize], x[j2 as usize]) else {
+        // Cheap rejections first: separated, too deep, or not facing.
+        let gap = (x_i - x[j1 as usize]).dot(&frame.normal);
+        if gap >= 0.0 || -gap > limits.max_gap || slave.normal.dot(&frame.normal) >= 0.0 {
             continue;
-        };
-        let valid = p.gap < 0.0
-            && -p.gap <= limits.max_gap
-            && p.xi.abs() <= xi_max
-            && slave.normal.dot(&p.frame.normal) < 0.0;
+        }
+        let p = project_on_frame(x_i, x[j1 as usize], frame);
         let better = match &best {
             None => true,
             Some((b, q)) => -p.gap < -q.gap || (-p.gap == -q.gap && e < *b),
         };
-        if valid && better {
+        if p.xi.abs() <= xi_max && better {
             best = Some((e, p));
         }
     }

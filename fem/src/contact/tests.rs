@@ -50,6 +50,13 @@ fn faces(n_low: usize, h_low: f64, n_up: usize, h_up: f64, offset: f64, y_up: f6
     }
 }
 
+fn frames_of(segments: &[[u32; 2]], x: &[Vector2<f64>]) -> Vec<Option<geometry::SegmentFrame>> {
+    segments
+        .iter()
+        .map(|s| geometry::segment_frame(x[s[0] as usize], x[s[1] as usize]))
+        .collect()
+}
+
 struct Pass {
     state: ContactState,
     ws: ContactWorkspace,
@@ -230,7 +237,7 @@ fn plastic_slip_of_one_slave_equals_its_motion_across_junctions() {
             tied_twin: NO_TWIN,
             normal: Vector2::new(0.0, -1.0),
         };
-        let (e, proj) = closest_master(&s, &grid, &segments, &x, &limits).unwrap();
+        let (e, proj) = closest_master(&s, &grid, &segments, &frames_of(&segments, &x), &x, &limits).unwrap();
         seen.insert(e);
         let seg = segments[e as usize];
         let r = forces::respond(EPS, &law, H, (seg, &proj), history.as_ref(), &x);
@@ -319,6 +326,7 @@ fn smallest_penetration_wins_over_the_deepest_candidate() {
     let segments = [[0, 1], [2, 3], [4, 5]];
     let mut grid = BucketGrid::with_capacity(3);
     grid.rebuild(&segments, &x, H, 1e-3);
+    let frames = frames_of(&segments, &x);
     let slave = Slave {
         node: 0,
         tied_twin: NO_TWIN,
@@ -328,7 +336,7 @@ fn smallest_penetration_wins_over_the_deepest_candidate() {
         max_gap: H,
         projection_tolerance: 1e-3,
     };
-    let (e, proj) = closest_master(&slave, &grid, &segments, &x, &limits).unwrap();
+    let (e, proj) = closest_master(&slave, &grid, &segments, &frames, &x, &limits).unwrap();
     assert_eq!(e, 1);
     assert!((proj.gap + 0.1 * H).abs() < 1e-15);
     // Same-facing segments (n_i·n_e ≥ 0) are excluded: flip the slave normal.
@@ -336,7 +344,7 @@ fn smallest_penetration_wins_over_the_deepest_candidate() {
         normal: Vector2::new(0.0, 1.0),
         ..slave
     };
-    assert!(closest_master(&same, &grid, &segments, &x, &limits).is_none());
+    assert!(closest_master(&same, &grid, &segments, &frames, &x, &limits).is_none());
 }
 
 #[test]
@@ -383,6 +391,7 @@ fn grid_search_matches_brute_force() {
     };
     let mut grid = BucketGrid::with_capacity(segments.len());
     grid.rebuild(segments, &c.x, H, 1e-3);
+    let frames = frames_of(segments, &c.x);
     let mut one_cell = BucketGrid::with_capacity(1);
     one_cell.rebuild(segments, &c.x, 1.0, 0.0); // huge margin: one cell holds everything
     assert!(grid.num_entries() < 3 * segments.len());
@@ -394,8 +403,8 @@ fn grid_search_matches_brute_force() {
             tied_twin: NO_TWIN,
             normal: Vector2::new(0.0, normal),
         };
-        let a = closest_master(&slave, &grid, segments, &c.x, &limits);
-        let b = closest_master(&slave, &one_cell, segments, &c.x, &limits);
+        let a = closest_master(&slave, &grid, segments, &frames, &c.x, &limits);
+        let b = closest_master(&slave, &one_cell, segments, &frames, &c.x, &limits);
         assert_eq!(a.map(|r| r.0), b.map(|r| r.0), "node {node}");
         found += usize::from(a.is_some());
     }
@@ -412,6 +421,7 @@ fn resolve_does_not_allocate_after_warm_up() {
         (
             pass.ws.grid.capacities(),
             pass.ws.area_sum.capacity(),
+            pass.ws.frames.capacity(),
             pass.ws.normal.capacity(),
             pass.state.history.capacity(),
             c.surface.segments.capacity(),

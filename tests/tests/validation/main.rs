@@ -13,5 +13,9 @@ mod spectral_radiation;
 mod spectral_single_mode;
 
 // ---- fem claims (issue: fem) ----
+#[cfg(feature = "fem")]
+mod fem_contact_pressure;
+#[cfg(feature = "fem")]
+mod fem_friction_sliding;
 
 // ---- compare claims (issue: compare) ----
