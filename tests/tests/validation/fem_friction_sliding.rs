@@ -185,8 +185,8 @@ fn block_sheared_above_mu_p_slides_with_traction_mu_p() {
 
 #[test]
 #[ignore = "issue 3 claim 6 spike target NOT MET (fem-contact report): over 20 h of sliding the window \
-            friction force deviates by 5.7 % and single nodes by 81 % (sliding-driven interface pressure \
-            waves); run with --ignored"]
+            friction force deviates by 5.7 % and single nodes by 81 % (smooth interface pressure waves, \
+            wavelength 4-8 h, growing with the slide distance); run with --ignored"]
 fn sliding_over_20_h_shows_no_force_spike_above_5_percent() {
     let all = sliding_run();
     let limit = FRICTION_COEFF * PRESSURE;
