@@ -439,3 +439,46 @@ fn resolve_does_not_allocate_after_warm_up() {
     assert_eq!(before, caps(&pass, &c));
     assert!(pass.summary.contacts > 50);
 }
+
+#[test]
+fn faces_sliding_over_20_segments_get_exact_nodal_forces_at_every_step() {
+    // Kinematic check of the key property (paper §2: correct after sliding farther than an
+    // element): flat non-matching faces (offset 0.37 h) pressed by δ, the upper one dragged by a
+    // step incommensurate with h (0.013 h) over 20 h. Every interior node must carry exactly
+    // ε_n δ A normal and μ ε_n δ A tangential force (opposing the motion) at every step: a spike at
+    // a segment junction (lost contact, spurious slip, double count) would break it.
+    let (delta, d, mu) = (2.4e-6, 0.013 * H, 0.3);
+    let mut c = faces(80, H, 40, H, 10.37 * H, -delta);
+    let mut pass = new_pass(&c);
+    let p = params(mu);
+    let (normal, tangential) = (EPS * delta * H, mu * EPS * delta * H);
+    let steps = (20.0 * H / d) as usize;
+    let mut worst: f64 = 0.0;
+    for step in 0..steps {
+        run(&mut c, &mut pass, &p, &[]);
+        if step >= 2 {
+            // Nodes at least 1.5 h inside the overlap: near the upper face's ends lower nodes enter
+            // contact, and a node's first contact step has no friction yet (fem-method §5.3).
+            let x_lo = c.x[c.upper[0] as usize].x + 1.5 * H;
+            let x_hi = c.x[c.upper[40] as usize].x - 1.5 * H;
+            let lower = c
+                .lower
+                .iter()
+                .filter(|&&i| (x_lo..=x_hi).contains(&c.x[i as usize].x));
+            for (&i, sign) in c.upper[2..39]
+                .iter()
+                .map(|i| (i, 1.0))
+                .chain(lower.map(|i| (i, -1.0)))
+            {
+                let f = pass.f[i as usize];
+                worst = worst
+                    .max((f.y - sign * normal).abs() / normal)
+                    .max((f.x + sign * tangential).abs() / tangential);
+            }
+        }
+        for &k in &c.upper {
+            c.x[k as usize].x += d;
+        }
+    }
+    assert!(worst < 1e-9, "largest relative nodal force deviation {worst:.3e}");
+}
