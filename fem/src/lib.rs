@@ -21,6 +21,8 @@ pub use error::{BuildError, RunError, SceneError};
 pub use law::elastic::WaveSpeeds;
 pub use model::build::{build, build_with_row_map};
 pub use model::state::{Model, State, Workspace};
+/// Re-export of the vector type used at the API (`Vector2<f64>`), so callers need not depend on nalgebra.
+pub use nalgebra;
 pub use output::{
     ArrivalRecord, ContactMeanRecord, EnergyRecord, FaceRecord, InterfaceRecord, ProbeRecord, RunOutput,
     TipRecord, write_csv,

@@ -94,6 +94,8 @@ pub struct ArrivalRecord {
     pub insertion_time: f64,
     /// Time of full failure d = 1 [s] (NaN: never).
     pub failure_time: f64,
+    /// Cumulative cohesive work ∫T·dΔ at this point [J/m²] (→ G_c at full failure).
+    pub work_density: f64,
 }
 
 /// Displacement and velocity of a probe node.

@@ -39,3 +39,8 @@ pub fn strain_energy(ws: &Workspace) -> f64 {
 pub fn shares_stiffness(model: &Model) -> bool {
     matches!(model.stiffness, bulk::Stiffness::Shared(_))
 }
+
+/// The bulk kernel alone: f = −f_int(u) [N/m] for displacements `u` [m] (benchmarks).
+pub fn bulk_forces(model: &Model, u: &[Vector2<f64>], f: &mut [Vector2<f64>]) {
+    bulk::internal_forces(&model.grid, &model.stiffness, u, f);
+}

@@ -121,6 +121,7 @@ pub(crate) fn arrivals(model: &Model, state: &State) -> Vec<ArrivalRecord> {
                 x: gauss_x(model, c, q),
                 insertion_time: state.facets.insert_time[c],
                 failure_time: state.facets.fail_time[c][q],
+                work_density: state.facets.work_density[c][q],
             });
         }
     }

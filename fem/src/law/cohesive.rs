@@ -80,13 +80,7 @@ pub fn traction(
     opening: Vector2<f64>,
     s: CohesiveState,
 ) -> (Vector2<f64>, CohesiveState) {
-    let delta_n = opening.dot(&n);
-    let dt_vec = opening - delta_n * n;
-    let contact_after_breaking = matches!(mode, ClosingTreatment::Standard { .. });
-    let closing = (contact_after_breaking || s.damage < 1.0) && delta_n < -CLOSING_TOL * s.delta_c_eff;
-    let ratio = p.beta / p.kappa;
-    let delta_sq = ratio * ratio * dt_vec.norm_squared() + if closing { 0.0 } else { delta_n * delta_n };
-    let delta = delta_sq.sqrt();
+    let (delta, closing, delta_n, dt_vec) = effective_opening(p, mode, n, opening, &s);
     let mut new = s;
     new.delta_max = s.delta_max.max(delta);
     new.damage = (new.delta_max / s.delta_c_eff).min(1.0);
@@ -103,6 +97,24 @@ pub fn traction(
         t += crate::law::penalty::compression_traction(eps_n, delta_n, n);
     }
     (t, new)
+}
+
+/// Effective opening δ = √((β²/κ²) δ_t² + δ_n²) [m] (δ_n dropped while closing), with the
+/// closing flag, δ_n [m] and the tangential opening vector Δ_t [m].
+pub fn effective_opening(
+    p: &LinearCohesive,
+    mode: ClosingTreatment,
+    n: Vector2<f64>,
+    opening: Vector2<f64>,
+    s: &CohesiveState,
+) -> (f64, bool, f64, Vector2<f64>) {
+    let delta_n = opening.dot(&n);
+    let dt_vec = opening - delta_n * n;
+    let contact_after_breaking = matches!(mode, ClosingTreatment::Standard { .. });
+    let closing = (contact_after_breaking || s.damage < 1.0) && delta_n < -CLOSING_TOL * s.delta_c_eff;
+    let ratio = p.beta / p.kappa;
+    let delta_sq = ratio * ratio * dt_vec.norm_squared() + if closing { 0.0 } else { delta_n * delta_n };
+    (delta_sq.sqrt(), closing, delta_n, dt_vec)
 }
 
 /// Reversible (elastic) energy density of the point, ½ T·Δ [J/m²].

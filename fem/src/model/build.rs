@@ -187,6 +187,7 @@ fn initial_state(model: &Model) -> State {
         prev_traction: vec![[Vector2::zeros(); 2]; nf],
         insert_time: vec![f64::NAN; nf],
         fail_time: vec![[f64::NAN; 2]; nf],
+        work_density: vec![[0.0; 2]; nf],
         active: Vec::with_capacity(nf),
         column_insert_step: vec![u64::MAX; nf + 1],
     };

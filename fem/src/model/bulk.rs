@@ -155,7 +155,7 @@ pub(crate) fn internal_forces(grid: &Grid, k: &Stiffness, u: &[Vector2<f64>], f:
                 let lo = below.map(|_| &u[(layer - 1) * w..layer * w]);
                 let mid = &u[layer * w..(layer + 1) * w];
                 let hi = above.map(|_| &u[(layer + 1) * w..(layer + 2) * w]);
-                for i in 1..nx {
+                for (i, fi) in fl.iter_mut().enumerate().take(nx).skip(1) {
                     let mut acc = [0.0; 2];
                     if let Some(lo) = lo {
                         st.apply(&st.below, lo, mid, i, &mut acc);
@@ -163,7 +163,7 @@ pub(crate) fn internal_forces(grid: &Grid, k: &Stiffness, u: &[Vector2<f64>], f:
                     if let Some(hi) = hi {
                         st.apply(&st.above, mid, hi, i, &mut acc);
                     }
-                    fl[i] = Vector2::new(-acc[0], -acc[1]);
+                    *fi = Vector2::new(-acc[0], -acc[1]);
                 }
             }
             _ => {

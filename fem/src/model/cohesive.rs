@@ -1,7 +1,7 @@
 //! Cohesive element forces (fem-method §3.2): 2 + 2 nodes, 2-point Gauss, normal from the
 //! current mid-line, traction from the pure law, scatter f⁺ −= (L₀/2) N T, f⁻ += (L₀/2) N T.
 
-use crate::law::cohesive::{self, LinearCohesive};
+use crate::law::cohesive::{self, ClosingTreatment, CohesiveState, LinearCohesive};
 use crate::mesh::interfaces::InterfaceRow;
 use crate::model::state::{Facets, Model};
 use nalgebra::Vector2;
@@ -50,7 +50,7 @@ pub(crate) fn assemble(
     work
 }
 
-#[allow(clippy::too_many_arguments)]
+#[allow(clippy::too_many_arguments)] // one call site; bundling would only rename the same borrows
 fn element(
     model: &Model,
     row: &InterfaceRow,
@@ -61,34 +61,91 @@ fn element(
     f: &mut [Vector2<f64>],
     t: f64,
 ) -> f64 {
-    let n = midline_normal(row, &model.grid.x0, u, c, facets.sign[c]);
-    let (ap, bp, am, bm) = (
-        row.plus[c] as usize,
-        row.plus[c + 1] as usize,
-        row.minus[c] as usize,
-        row.minus[c + 1] as usize,
-    );
-    let (open_a, open_b) = (u[ap] - u[am], u[bp] - u[bm]);
-    let half = 0.5 * row.length[c];
+    let nodes = [row.plus[c], row.plus[c + 1], row.minus[c], row.minus[c + 1]].map(|n| n as usize);
+    let un = nodes.map(|n| u[n]);
+    let xn = nodes.map(|n| model.grid.x0[n] + u[n]);
+    let geometry = FacetGeometry {
+        length: row.length[c],
+        sign: facets.sign[c],
+    };
+    let mut states = facets.gauss[c];
+    let out = element_forces(law, model.closing, &geometry, &xn, &un, &mut states);
     let mut work = 0.0;
-    for (q, &(_, n1, n2)) in facet_gauss().iter().enumerate() {
-        let opening = n1 * open_a + n2 * open_b;
-        let (traction, s) = cohesive::traction(law, model.closing, n, opening, facets.gauss[c][q]);
-        work +=
-            half * 0.5 * (traction + facets.prev_traction[c][q]).dot(&(opening - facets.prev_opening[c][q]));
-        if s.damage >= 1.0 && facets.fail_time[c][q].is_nan() {
+    for (q, state) in states.iter().enumerate() {
+        // trapezoid ⟨T⟩·ΔΔ (Akantu): the discrete work of the nodal forces, which closes the balance
+        let dw = 0.5
+            * (out.traction[q] + facets.prev_traction[c][q])
+                .dot(&(out.opening[q] - facets.prev_opening[c][q]));
+        facets.work_density[c][q] += dw;
+        work += 0.5 * geometry.length * dw;
+        if state.damage >= 1.0 && facets.fail_time[c][q].is_nan() {
             facets.fail_time[c][q] = t;
         }
-        facets.gauss[c][q] = s;
-        facets.prev_opening[c][q] = opening;
-        facets.prev_traction[c][q] = traction;
-        let (fa, fb) = (half * n1 * traction, half * n2 * traction);
-        f[ap] -= fa;
-        f[bp] -= fb;
-        f[am] += fa;
-        f[bm] += fb;
+        facets.prev_opening[c][q] = out.opening[q];
+        facets.prev_traction[c][q] = out.traction[q];
+    }
+    facets.gauss[c] = states;
+    for (k, &n) in nodes.iter().enumerate() {
+        f[n] += out.force[k];
     }
     work
+}
+
+/// Reference length and orientation sign of a cohesive element.
+#[derive(Debug, Clone, Copy)]
+pub struct FacetGeometry {
+    /// Reference length L₀ [m].
+    pub length: f64,
+    /// Sign s_e fixed at insertion so that n points from − into + [-].
+    pub sign: f64,
+}
+
+/// Result of one cohesive element evaluation.
+#[derive(Debug, Clone, Copy)]
+pub struct CohesiveForces {
+    /// Nodal forces on [a⁺, b⁺, a⁻, b⁻] [N/m].
+    pub force: [Vector2<f64>; 4],
+    /// Traction per Gauss point [Pa].
+    pub traction: [Vector2<f64>; 2],
+    /// Opening Δ = u⁺ − u⁻ per Gauss point [m].
+    pub opening: [Vector2<f64>; 2],
+}
+
+/// One cohesive element (fem-method §3.2), pure: nodes [a⁺, b⁺, a⁻, b⁻] with current positions
+/// `x` [m] and displacements `u` [m]; normal from the current mid-line; Gauss states updated in place;
+/// f⁺_k = −Σ_q (L₀/2) N_k T_q, f⁻_k = +Σ_q (L₀/2) N_k T_q.
+pub fn element_forces(
+    law: &LinearCohesive,
+    closing: ClosingTreatment,
+    geometry: &FacetGeometry,
+    x: &[Vector2<f64>; 4],
+    u: &[Vector2<f64>; 4],
+    states: &mut [CohesiveState; 2],
+) -> CohesiveForces {
+    let xa = 0.5 * (x[0] + x[2]);
+    let xb = 0.5 * (x[1] + x[3]);
+    let tan = (xb - xa).normalize();
+    let n = geometry.sign * Vector2::new(-tan.y, tan.x);
+    let (open_a, open_b) = (u[0] - u[2], u[1] - u[3]);
+    let half = 0.5 * geometry.length;
+    let mut out = CohesiveForces {
+        force: [Vector2::zeros(); 4],
+        traction: [Vector2::zeros(); 2],
+        opening: [Vector2::zeros(); 2],
+    };
+    for (q, &(_, n1, n2)) in facet_gauss().iter().enumerate() {
+        let opening = n1 * open_a + n2 * open_b;
+        let (traction, s) = cohesive::traction(law, closing, n, opening, states[q]);
+        states[q] = s;
+        out.traction[q] = traction;
+        out.opening[q] = opening;
+        let (fa, fb) = (half * n1 * traction, half * n2 * traction);
+        out.force[0] -= fa;
+        out.force[1] -= fb;
+        out.force[2] += fa;
+        out.force[3] += fb;
+    }
+    out
 }
 
 /// Reversible cohesive energy Σ (L₀/2) ½ T·Δ [J/m] of the inserted elements.

@@ -2,7 +2,7 @@
 
 pub mod build;
 pub(crate) mod bulk;
-pub(crate) mod cohesive;
+pub mod cohesive;
 pub(crate) mod insertion;
 pub(crate) mod loading;
 pub mod state;

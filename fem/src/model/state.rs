@@ -76,6 +76,8 @@ pub(crate) struct Facets {
     pub insert_time: Vec<f64>,
     /// Time of full failure per Gauss point [s] (NaN: not yet).
     pub fail_time: Vec<[f64; 2]>,
+    /// Cumulative cohesive work per unit length per Gauss point ∫T·dΔ [J/m²].
+    pub work_density: Vec<[f64; 2]>,
     /// Inserted facets, in insertion order (capacity: every cohesive facet).
     pub active: Vec<u32>,
     /// Last step at which a cohesive element touching column i was inserted (u64::MAX: never).

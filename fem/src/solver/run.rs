@@ -26,9 +26,24 @@ pub fn run_with_progress(scene: &Scene, progress: &mut dyn FnMut(u64, u64)) -> R
         ..RunOutput::default()
     };
     Recorder { out: &mut out }.observe(&model, &state, &ws);
-    for n in 1..=total {
-        let sample = n % every == 0 || n == total;
-        if let Err(b) = step(&model, &mut state, &mut ws, sample) {
+    let mut done = 0;
+    while done < total {
+        let end = (done + report).min(total);
+        // The steps run inside a rayon scope, i.e. on a pool thread: parallel loops then use the
+        // worker's own deque instead of injecting jobs from outside (which allocates).
+        let failed = rayon::scope(|_| {
+            for n in done + 1..=end {
+                let sample = n % every == 0 || n == total;
+                if let Err(b) = step(&model, &mut state, &mut ws, sample) {
+                    return Some(b);
+                }
+                if sample {
+                    Recorder { out: &mut out }.observe(&model, &state, &ws);
+                }
+            }
+            None
+        });
+        if let Some(b) = failed {
             let x = model.grid.x0[b.node];
             let v = state.v[b.node];
             out.steps = state.step;
@@ -44,12 +59,8 @@ pub fn run_with_progress(scene: &Scene, progress: &mut dyn FnMut(u64, u64)) -> R
                 partial: Box::new(out),
             });
         }
-        if sample {
-            Recorder { out: &mut out }.observe(&model, &state, &ws);
-        }
-        if n % report == 0 || n == total {
-            progress(n, total);
-        }
+        done = end;
+        progress(done, total);
     }
     out.steps = state.step;
     out.arrivals = tips::arrivals(&model, &state);

@@ -14,8 +14,18 @@ mod spectral_single_mode;
 
 // ---- fem claims (issue: fem) ----
 #[cfg(feature = "fem")]
+mod fem_center_crack;
+#[cfg(feature = "fem")]
+mod fem_cohesive_law;
+#[cfg(feature = "fem")]
 mod fem_contact_pressure;
 #[cfg(feature = "fem")]
+mod fem_energy_conservation;
+#[cfg(feature = "fem")]
 mod fem_friction_sliding;
+#[cfg(feature = "fem")]
+mod fem_patch_test;
+#[cfg(feature = "fem")]
+mod fem_wave_speeds;
 
 // ---- compare claims (issue: compare) ----

@@ -1,0 +1,69 @@
+//! style.md convention 8: no allocation after `build()`. A counting global allocator watches
+//! 200 steps of a small centre crack that exercises every part of the step (bulk, Westergaard
+//! boundary, contact with friction, cohesive insertion and law, damping, sampling energies).
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
+struct Counting;
+
+static COUNTING: AtomicBool = AtomicBool::new(false);
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        if COUNTING.load(Ordering::Relaxed) {
+            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        }
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        if COUNTING.load(Ordering::Relaxed) {
+            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        }
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+#[test]
+fn time_steps_do_not_allocate() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../scenes/tiny-fem-center-crack.toml"
+    );
+    let scene = fem::Scene::from_toml_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let (model, mut state, mut ws) = fem::build(&scene).unwrap();
+    // warm-up: rayon's pool, its deques and thread-local latches are created on first use
+    rayon::scope(|_| {
+        for _ in 0..5 {
+            fem::step(&model, &mut state, &mut ws, true).unwrap();
+        }
+    });
+    let before = state.num_inserted();
+    // as in fem::run: the steps run on a rayon pool thread (jobs injected from outside the pool
+    // go through a queue that allocates blocks; inside, each worker uses its own deque)
+    rayon::scope(|_| {
+        COUNTING.store(true, Ordering::SeqCst);
+        for n in 0..400 {
+            fem::step(&model, &mut state, &mut ws, n % 10 == 0).unwrap();
+        }
+        COUNTING.store(false, Ordering::SeqCst);
+    });
+    let allocations = ALLOCATIONS.load(Ordering::SeqCst);
+    println!(
+        "400 steps: {allocations} allocations; cohesive elements inserted {} -> {}",
+        before,
+        state.num_inserted()
+    );
+    assert!(
+        state.num_inserted() > before,
+        "the window must include insertions"
+    );
+    assert_eq!(allocations, 0);
+}
