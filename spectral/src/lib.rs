@@ -20,6 +20,7 @@ pub mod loading;
 mod modes;
 pub mod output;
 mod scene;
+mod soe;
 mod solver;
 
 pub use elastodynamics::{ConvolutionStats, FaceFields, HalfSpaceParams, HalfSpaces};
@@ -69,7 +70,7 @@ pub fn run_with_progress(scene: &Scene, progress: &mut dyn FnMut(u64, u64)) -> R
                 step: n,
                 time_s: t,
                 location: format!(
-                    "grid point {m} (x = {} m): face velocity non-finite or > c_s",
+                    "grid point {m} (x = {} m): face velocity non-finite or > 1e3 × (peak stress)/Z",
                     model.x[m]
                 ),
                 partial: Box::new(out),

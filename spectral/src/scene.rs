@@ -416,7 +416,7 @@ fn validate(r: RawScene) -> Result<Scene, SceneError> {
         t_star: s.t_star,
         output_interval: s.output_interval,
         field_output_interval: s.field_output_interval,
-        convolution: s.convolution.unwrap_or(Convolution::Direct),
+        convolution: s.convolution.unwrap_or(Convolution::Fast),
         fast_tolerance,
         contact: s.contact.unwrap_or(true),
         nucleation: s.nucleation,

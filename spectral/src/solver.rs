@@ -21,7 +21,7 @@ pub(crate) struct Model {
     pub cohesive: CohesiveParams,
     pub z_shear: f64,
     pub z_normal: f64,
-    pub cs: f64,
+    pub v_limit: f64,
     pub friction_coeff: f64,
     pub relax: Option<f64>,
     pub contact: bool,
@@ -101,7 +101,21 @@ pub(crate) fn build(scene: &Scene) -> Result<(Model, State, Workspace), BuildErr
         cohesive,
         z_shear: mu / w.cs,
         z_normal: scene.eta() * mu / w.cs,
-        cs: w.cs,
+        v_limit: {
+            // Blow-up guard: 1e3 × the largest particle velocity the loads and strengths can drive (σ/Z).
+            let peak = [
+                scene.normal.initial,
+                scene.normal.r#final,
+                scene.shear.initial,
+                scene.shear.r#final,
+            ]
+            .iter()
+            .fold(
+                scene.sigma_c.max(scene.beta * scene.sigma_c / scene.kappa),
+                |a, b| a.max(b.abs()),
+            );
+            1e3 * (peak + scene.nucleation.map_or(0.0, |n| n.shear.abs())) * w.cs / mu
+        },
         friction_coeff: scene.friction_coeff,
         relax: (scene.t_star > 0.0).then(|| dt / scene.t_star),
         contact: scene.contact,
@@ -134,7 +148,7 @@ pub(crate) fn far_field(model: &Model, t: f64) -> (f64, f64) {
 }
 
 /// Step n at t_n = n Δt: computes v^n and T^n from u^n. Returns the first grid point whose
-/// velocity is non-finite or exceeds c_s (strain > 1), if any.
+/// velocity is non-finite or exceeds `v_limit` (blow-up), if any.
 pub(crate) fn step(model: &Model, st: &mut State, ws: &mut Workspace, n: u64) -> Option<usize> {
     let t = n as f64 * model.dt;
     let (sxy, syy) = far_field(model, t);
@@ -181,7 +195,7 @@ pub(crate) fn step(model: &Model, st: &mut State, ws: &mut Workspace, n: u64) ->
             .max(shear.v_bottom.abs())
             .max(normal.v_top.abs())
             .max(normal.v_bottom.abs());
-        if bad.is_none() && !(vmax <= model.cs) {
+        if bad.is_none() && !(vmax <= model.v_limit) {
             bad = Some(m);
         }
     }

@@ -6,11 +6,23 @@
 #[cfg(feature = "spectral")]
 mod spectral_common;
 #[cfg(feature = "spectral")]
+mod spectral_fast;
+#[cfg(feature = "spectral")]
+mod spectral_friction;
+#[cfg(feature = "spectral")]
 mod spectral_kernels;
+#[cfg(feature = "spectral")]
+mod spectral_onset;
 #[cfg(feature = "spectral")]
 mod spectral_radiation;
 #[cfg(feature = "spectral")]
+mod spectral_rayleigh_limit;
+#[cfg(feature = "spectral")]
+mod spectral_resolution;
+#[cfg(feature = "spectral")]
 mod spectral_single_mode;
+#[cfg(feature = "spectral")]
+mod spectral_supershear;
 
 // ---- fem claims (issue: fem) ----
 #[cfg(feature = "fem")]

@@ -47,6 +47,61 @@ pub fn center_crack(mu: f64) -> &'static RunOutput {
     cell.get_or_init(|| run(&scene("center-crack", &[f("friction.friction_coeff", mu)])))
 }
 
+/// The §7.7 mode-II crack with S = 2.5 (scenes/tiny-spectral-andrews.toml), shared by the
+/// Rayleigh-limit and supershear claims.
+pub fn andrews_s25() -> &'static RunOutput {
+    static RUN: OnceLock<RunOutput> = OnceLock::new();
+    RUN.get_or_init(|| run(&scene("tiny-spectral-andrews", &[])))
+}
+
+/// The §7.7 set-up with S = 1.0: τ_0 = 0.5, pre-crack 1.2 a_c = 2.351 (a_c = 1/(π 0.65 τ_0²)), T = 45.
+pub fn andrews_s10() -> RunOutput {
+    run(&scene(
+        "tiny-spectral-andrews",
+        &[
+            f("loading.shear.final", 0.5),
+            f("crack.half_length", 2.351),
+            f("loading.duration", 45.0),
+        ],
+    ))
+}
+
+/// Least-squares speed of the right tip over t ∈ [t0, t1] [m/s].
+pub fn speed_between(tips: &[TipRecord], t0: f64, t1: f64) -> f64 {
+    let pts: Vec<(f64, f64)> = tips
+        .iter()
+        .filter(|r| r.t >= t0 && r.t <= t1)
+        .map(|r| (r.t, r.tip_right))
+        .collect();
+    slope(&pts)
+}
+
+/// Runs a scene (used for centre-crack variants that are not shared).
+pub fn center_crack_with(scene: &Scene) -> RunOutput {
+    run(scene)
+}
+
+/// Mean speed [m/s] of the right tip between the times it passes center + 2a and center + 6a
+/// (a fixed distance window of 4a, inside the propagation phase of the centre-crack case).
+pub fn mean_tip_speed(out: &RunOutput) -> f64 {
+    let (c, a) = (0.0, 0.125);
+    let t2 = crossing_time(&out.tips, c + 2.0 * a).expect("tip reaches 2a");
+    let t6 = crossing_time(&out.tips, c + 6.0 * a).expect("tip reaches 6a");
+    let x2 = out
+        .tips
+        .iter()
+        .find(|r| r.t >= t2)
+        .map(|r| r.tip_right)
+        .unwrap_or(0.0);
+    let x6 = out
+        .tips
+        .iter()
+        .find(|r| r.t >= t6)
+        .map(|r| r.tip_right)
+        .unwrap_or(0.0);
+    (x6 - x2) / (t6 - t2)
+}
+
 /// First time [s] the right or left crack tip has left the pre-crack tip by at least one grid point.
 pub fn onset_time(tips: &[TipRecord]) -> Option<f64> {
     let (r0, l0) = (tips[0].tip_right, tips[0].tip_left);
