@@ -1,6 +1,8 @@
 //! Issue 3 claim 6: a pressed block sheared below μp sticks; above μp it slides with tangential
 //! traction μp within 1 %; sliding over 20 h shows no force spike above 5 %.
-//! Scene: `scenes/tiny-fem-contact-friction.toml` (non-matching meshes, μ = 0.3, p = 0.05 MPa).
+//! Scenes (non-matching meshes offset 0.37 h, μ = 0.3, p = 0.05 MPa): `tiny-fem-contact-friction`
+//! (stick: clamped base; slip: free stack loaded by tractions) and `tiny-fem-contact-sliding` (held
+//! blocks driven 21 h past each other, for the spike check). Why each set-up: see the scene files.
 
 use validation::{scene_text, with_overrides};
 
@@ -28,10 +30,15 @@ struct Sample {
 }
 
 fn samples(out: &fem::RunOutput) -> Vec<Sample> {
-    let mut times: Vec<f64> = out.faces.iter().map(|r| r.t).collect();
-    times.dedup();
     let (lo, hi) = (OFFSET, X_RANGE[1]);
     let quarter = 0.25 * (hi - lo);
+    samples_in(out, [lo + quarter, hi - quarter])
+}
+
+/// Samples restricted to upper-face nodes with reference x in `window` [m].
+fn samples_in(out: &fem::RunOutput, window: [f64; 2]) -> Vec<Sample> {
+    let mut times: Vec<f64> = out.faces.iter().map(|r| r.t).collect();
+    times.dedup();
     times
         .iter()
         .map(|&t| {
@@ -45,7 +52,7 @@ fn samples(out: &fem::RunOutput) -> Vec<Sample> {
             let nodes = out
                 .faces
                 .iter()
-                .filter(|r| r.t == t && r.x >= lo + quarter && r.x <= hi - quarter)
+                .filter(|r| r.t == t && r.x >= window[0] && r.x <= window[1])
                 .map(|r| (r.normal_traction, r.tangential_traction))
                 .collect();
             Sample {
@@ -184,30 +191,47 @@ fn block_sheared_above_mu_p_slides_with_traction_mu_p() {
 }
 
 #[test]
-#[ignore = "issue 3 claim 6 spike target NOT MET (fem-contact report): over 20 h of sliding the window \
-            friction force deviates by 5.7 % and single nodes by 81 % (smooth interface pressure waves, \
-            wavelength 4-8 h, growing with the slide distance); run with --ignored"]
 fn sliding_over_20_h_shows_no_force_spike_above_5_percent() {
-    let all = sliding_run();
-    let limit = FRICTION_COEFF * PRESSURE;
-    let (mut force, mut force_at) = (0.0_f64, 0.0);
-    let (mut nodal, mut nodal_at) = (0.0_f64, 0.0);
-    for s in all.iter().filter(|s| s.slide >= H && s.slide <= SLIDE_TARGET) {
-        let dev = (mean_tangential(s) / limit - 1.0).abs();
-        if dev > force {
-            (force, force_at) = (dev, s.slide / H);
-        }
+    // Scene `tiny-fem-contact-sliding`: held blocks driven past each other by 21 h; window = middle
+    // half of the 400 h faces (100 h from either end).
+    let scene = fem::Scene::from_toml_str(&scene_text("tiny-fem-contact-sliding")).expect("scene is valid");
+    let all = samples_in(&fem::run(&scene).expect("run is stable"), [0.0, 0.2]);
+    // Reference: the window's mean pressure once the normal closure is applied, before sliding.
+    let before = all
+        .iter()
+        .filter(|s| s.t <= 1e-3)
+        .last()
+        .expect("pre-sliding sample");
+    let p_ref = mean(before.nodes.iter().map(|n| n.0));
+    let limit = FRICTION_COEFF * p_ref;
+    let final_slide = all.last().expect("samples").slide;
+    assert!(final_slide >= SLIDE_TARGET, "slid only {:.2} h", final_slide / H);
+    let sliding: Vec<_> = all
+        .iter()
+        .filter(|s| s.slide >= H && s.slide <= SLIDE_TARGET)
+        .collect();
+    let (mut force, mut nodal, mut normal, mut at) = (0.0_f64, 0.0_f64, 0.0_f64, 0.0);
+    for s in &sliding {
+        force = force.max((mean_tangential(s) / limit - 1.0).abs());
+        normal = normal.max((mean(s.nodes.iter().map(|n| n.0)) / p_ref - 1.0).abs());
         for &(_, t_abs) in &s.nodes {
             let dev = (t_abs / limit - 1.0).abs();
             if dev > nodal {
-                (nodal, nodal_at) = (dev, s.slide / H);
+                (nodal, at) = (dev, s.slide / H);
             }
         }
     }
     println!(
-        "claim 6 spike over slide 1-20 h: window friction force max |F/(mu p L) - 1| = {force:.3e} at {force_at:.2} h; \
-         per node max | |T_i|/(mu p) - 1 | = {nodal:.3e} at {nodal_at:.2} h (tol {TOL_SPIKE_REL})"
+        "claim 6 spike: p before sliding {p_ref:.5e} Pa (nominal 0.05 MPa); {} samples over slide 1-20 h \
+         (final {:.2} h): per node max | |T_i|/(mu p) - 1 | = {nodal:.3e} at {at:.2} h; window friction force \
+         max |F/(mu p L) - 1| = {force:.3e}; window normal force max |N/(p L) - 1| = {normal:.3e} (tol {TOL_SPIKE_REL})",
+        sliding.len(),
+        final_slide / H
     );
-    assert!(force <= TOL_SPIKE_REL, "friction force spike of {force:.3e}");
-    assert!(nodal <= TOL_SPIKE_REL, "nodal force spike of {nodal:.3e}");
+    assert!(sliding.len() >= 500);
+    assert!(nodal <= TOL_SPIKE_REL, "nodal friction spike of {nodal:.3e}");
+    assert!(
+        force <= TOL_SPIKE_REL && normal <= TOL_SPIKE_REL,
+        "force spike {force:.3e} / {normal:.3e}"
+    );
 }
