@@ -197,11 +197,7 @@ fn sliding_over_20_h_shows_no_force_spike_above_5_percent() {
     let scene = fem::Scene::from_toml_str(&scene_text("tiny-fem-contact-sliding")).expect("scene is valid");
     let all = samples_in(&fem::run(&scene).expect("run is stable"), [0.0, 0.2]);
     // Reference: the window's mean pressure once the normal closure is applied, before sliding.
-    let before = all
-        .iter()
-        .filter(|s| s.t <= 1e-3)
-        .last()
-        .expect("pre-sliding sample");
+    let before = all.iter().rfind(|s| s.t <= 1e-3).expect("pre-sliding sample");
     let p_ref = mean(before.nodes.iter().map(|n| n.0));
     let limit = FRICTION_COEFF * p_ref;
     let final_slide = all.last().expect("samples").slide;
