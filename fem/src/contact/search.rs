@@ -20,6 +20,8 @@ pub(crate) struct BucketGrid {
     origin: Vector2<f64>,
     /// Cell edge length [m].
     cell_size: f64,
+    /// 1 / cell edge length [1/m] (multiplications instead of divisions in the hot loops).
+    inv_cell_size: f64,
     /// Number of cells along x and y [-].
     nx: usize,
     ny: usize,
@@ -47,6 +49,7 @@ impl BucketGrid {
         Self {
             origin: Vector2::zeros(),
             cell_size: 1.0,
+            inv_cell_size: 1.0,
             nx: 0,
             ny: 0,
             cell_start: vec![0; max_cells + 1],
@@ -107,6 +110,7 @@ impl BucketGrid {
         }
         self.origin = lo;
         self.cell_size = c;
+        self.inv_cell_size = 1.0 / c;
         (self.nx, self.ny) = cells(c);
         self.fill(segments, x, margin);
     }
@@ -149,11 +153,11 @@ impl BucketGrid {
 
     // Truncation of a non-negative value is its floor (and avoids a libm call per query).
     fn ix(&self, x: f64) -> usize {
-        (((x - self.origin.x) / self.cell_size).max(0.0) as usize).min(self.nx - 1)
+        (((x - self.origin.x) * self.inv_cell_size).max(0.0) as usize).min(self.nx - 1)
     }
 
     fn iy(&self, y: f64) -> usize {
-        (((y - self.origin.y) / self.cell_size).max(0.0) as usize).min(self.ny - 1)
+        (((y - self.origin.y) * self.inv_cell_size).max(0.0) as usize).min(self.ny - 1)
     }
 
     /// Segments registered in the cell containing `p` (empty outside the grid).
@@ -161,7 +165,7 @@ impl BucketGrid {
         if self.nx == 0 {
             return &[];
         }
-        let r = (p - self.origin) / self.cell_size;
+        let r = (p - self.origin) * self.inv_cell_size;
         let inside = r.x >= 0.0 && r.y >= 0.0 && r.x < self.nx as f64 && r.y < self.ny as f64;
         if !inside {
             return &[];
