@@ -132,7 +132,7 @@ impl Scene {
 
     /// Largest stable step [s]: fem-method §2 with α = 0.9.
     pub fn stable_limit(&self) -> f64 {
-        let h = self.fem.element_size;
+        let h = self.fem.min_edge();
         let beta_p = if self.has_penalty() {
             self.fem.eps_n.max(self.fem.eps_t) * h / self.material.youngs_modulus
         } else {

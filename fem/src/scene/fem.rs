@@ -97,6 +97,9 @@ pub struct FemSpec {
     pub projection_tolerance: f64,
     /// Horizontal shift of the upper block's nodes [element sizes] (full-width pre-crack only).
     pub upper_offset: f64,
+    /// The interface node row follows this polyline y(x) [m] (linear between points, y = 0
+    /// outside); rows in between are interpolated (paper Section 4 meshes). `None`: flat.
+    pub interface_polyline: Option<Vec<[f64; 2]>>,
     /// Probe points (reference positions [m]); the nearest node is recorded.
     pub probes: Vec<[f64; 2]>,
     /// Side-wise boundary conditions; `None`: Westergaard displacements on the whole boundary.
@@ -300,6 +303,7 @@ pub(crate) fn validate_fem(f: &RawFem, crack: Option<&Crack>, duration: f64) -> 
             "the Westergaard boundary field needs a centre pre-crack inside the domain; give [fem.boundary] instead".to_string(),
         ));
     }
+    let interface_polyline = polyline(f, upper_offset)?;
     let probes = f.probes.clone().unwrap_or_default();
     for p in &probes {
         check(
@@ -332,7 +336,69 @@ pub(crate) fn validate_fem(f: &RawFem, crack: Option<&Crack>, duration: f64) -> 
         max_gap,
         projection_tolerance,
         upper_offset,
+        interface_polyline,
         probes,
         boundary,
     })
+}
+
+fn polyline(f: &RawFem, upper_offset: f64) -> Result<Option<Vec<[f64; 2]>>, SceneError> {
+    let Some(p) = &f.interface_polyline else {
+        return Ok(None);
+    };
+    if p.len() < 2 || upper_offset > 0.0 {
+        return Err(SceneError::Geometry(
+            "fem.interface_polyline needs at least 2 points and no fem.upper_offset".to_string(),
+        ));
+    }
+    let limit = 0.5 * (-f.y_range[0]).min(f.y_range[1]);
+    for (k, q) in p.iter().enumerate() {
+        let increasing = k == 0 || q[0] > p[k - 1][0];
+        check(
+            "fem.interface_polyline x",
+            q[0],
+            increasing,
+            "strictly increasing x [m]",
+        )?;
+        check(
+            "fem.interface_polyline y",
+            q[1],
+            q[1].abs() < limit,
+            "|y| < half the smaller of the heights below and above y = 0 [m]",
+        )?;
+    }
+    Ok(Some(p.clone()))
+}
+
+impl FemSpec {
+    /// y [m] of the interface row at x [m]: the polyline, linear between points, 0 outside.
+    pub fn interface_y(&self, x: f64) -> f64 {
+        let Some(p) = &self.interface_polyline else {
+            return 0.0;
+        };
+        if x <= p[0][0] || x >= p[p.len() - 1][0] {
+            return 0.0;
+        }
+        let k = p.partition_point(|q| q[0] <= x).max(1);
+        let (a, b) = (p[k - 1], p[k]);
+        a[1] + (b[1] - a[1]) * (x - a[0]) / (b[0] - a[0])
+    }
+
+    /// Smallest element edge h_min [m]: h, or a compressed row spacing of a mapped mesh.
+    pub fn min_edge(&self) -> f64 {
+        let h = self.element_size;
+        if self.interface_polyline.is_none() {
+            return h;
+        }
+        let [x0, x1] = self.x_range;
+        let [y0, y1] = self.y_range;
+        let (below, above) = ((-y0 / h).round(), (y1 / h).round());
+        let n = ((x1 - x0) / h).round() as usize;
+        (0..=n)
+            .map(|i| {
+                let y = self.interface_y(x0 + i as f64 * h);
+                ((y - y0) / below).min((y1 - y) / above)
+            })
+            .fold(h, f64::min)
+    }
 }

@@ -115,6 +115,7 @@ pub(crate) struct RawFem {
     pub max_gap: Option<f64>,
     pub projection_tolerance: Option<f64>,
     pub upper_offset: Option<f64>,
+    pub interface_polyline: Option<Vec<[f64; 2]>>,
     pub probes: Option<Vec<[f64; 2]>>,
     pub boundary: Option<RawBoundary>,
 }
