@@ -5,8 +5,6 @@ use std::f64::consts::PI;
 /// Modes j = 0..=N/2 of a real field on N points; mode 0 carries no history (F(k=0) = 0, §2).
 #[derive(Debug, Clone)]
 pub struct Modes {
-    /// Number of grid points N [-].
-    pub n: usize,
     /// ΔT_1 = k_1 c_s Δt = 2πβ/N [-]; mode j has ΔT_j = j ΔT_1.
     pub dt1: f64,
     /// Wave number k_j = 2πj/X [1/m], j = 0..=N/2.
@@ -42,7 +40,6 @@ impl Modes {
             total += l;
         }
         Modes {
-            n,
             dt1,
             k,
             window,

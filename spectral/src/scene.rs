@@ -382,7 +382,7 @@ fn validate(r: RawScene) -> Result<Scene, SceneError> {
     check(
         "spectral.fast_tolerance",
         fast_tolerance,
-        fast_tolerance >= 1e-10 && fast_tolerance <= 1e-2,
+        (1e-10..=1e-2).contains(&fast_tolerance),
         "[1e-10, 1e-2]",
     )?;
     if let Some(nu) = &s.nucleation {

@@ -105,7 +105,8 @@ impl SoeFit {
         let z = a.complex_eigenvalues();
         let mut poles = Vec::with_capacity(r);
         for zp in z.iter() {
-            if !(zp.norm() < 1.0) || zp.norm() < 1e-12 {
+            let r = zp.norm();
+            if !(1e-12..1.0).contains(&r) {
                 return None;
             }
             poles.push(zp.ln() / SAMPLE);
@@ -136,9 +137,9 @@ impl SoeFit {
             }
             fit.poles.push(if real { Complex64::new(l.re, 0.0) } else { l });
             fit.weight.push(if real { 1.0 } else { 2.0 });
-            for k in 0..3 {
-                let c = amps[k][p];
-                fit.amps[k].push(if real { Complex64::new(c.re, 0.0) } else { c });
+            for (dst, src) in fit.amps.iter_mut().zip(amps) {
+                let c = src[p];
+                dst.push(if real { Complex64::new(c.re, 0.0) } else { c });
             }
         }
         fit

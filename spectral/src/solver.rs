@@ -195,7 +195,7 @@ pub(crate) fn step(model: &Model, st: &mut State, ws: &mut Workspace, n: u64) ->
             .max(shear.v_bottom.abs())
             .max(normal.v_top.abs())
             .max(normal.v_bottom.abs());
-        if bad.is_none() && !(vmax <= model.v_limit) {
+        if bad.is_none() && (vmax.is_nan() || vmax > model.v_limit) {
             bad = Some(m);
         }
     }

@@ -19,7 +19,7 @@ pub fn reference_rows(name: &str) -> Vec<Vec<f64>> {
 
 /// η for ν = 0.35 [-].
 pub fn eta_035() -> f64 {
-    (2.0 * (1.0 - 0.35) / (1.0 - 2.0 * 0.35) as f64).sqrt()
+    (2.0f64 * (1.0 - 0.35) / (1.0 - 2.0 * 0.35)).sqrt()
 }
 
 /// Scene from a named scene file with overrides.
