@@ -202,3 +202,35 @@ fn damping(model: &Model, state: &mut State) {
     }
     state.energy.damping += removed;
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::scene::Scene;
+
+    #[test]
+    fn stability_guard_names_the_node() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../scenes/tiny-fem-center-crack.toml"
+        );
+        let scene = Scene::from_toml_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let (model, mut state, mut ws) = crate::build(&scene).unwrap();
+        super::step(&model, &mut state, &mut ws, false).unwrap();
+        let interior = model.grid.node(5, 7) as usize;
+        state.v[interior].x = f64::NAN;
+        let err = super::step(&model, &mut state, &mut ws, false).unwrap_err();
+        assert!(
+            state.v[err.node].x.is_nan() || state.v[err.node].y.is_nan(),
+            "node {}",
+            err.node
+        );
+        let (model, mut state, mut ws) = crate::build(&scene).unwrap();
+        state.v[interior] = nalgebra::Vector2::new(20.0 * model.cd, 0.0);
+        let err = super::step(&model, &mut state, &mut ws, false).unwrap_err();
+        assert!(
+            state.v[err.node].norm() > 10.0 * model.cd,
+            "|v| > 10 c_d is refused at node {}",
+            err.node
+        );
+    }
+}
