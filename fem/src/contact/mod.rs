@@ -9,6 +9,8 @@ pub(crate) mod geometry;
 pub(crate) mod search;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_sliding;
 
 use nalgebra::Vector2;
 
