@@ -72,15 +72,16 @@ impl Series {
         Some(self.y[j - 1] + w * (self.y[j] - self.y[j - 1]))
     }
 
-    /// Local least-squares slope dy/dt over ±`half_window` samples (fewer at the ends).
-    /// Crack tips move one facet or grid point at a time, so raw differences are useless;
-    /// a window of a few h/c_R gives a usable speed (fem-method §8).
-    pub fn slope(&self, half_window: usize) -> Series {
+    /// Local least-squares slope dy/dt over the samples within ±`half_width` [s] of each time.
+    /// Crack tips move one facet or grid point at a time, so raw differences are useless; a
+    /// window of a few h/c_R gives a usable speed (fem-method §8). The window is in time, not
+    /// in samples, so histories sampled at different rates get the same smoothing.
+    pub fn slope(&self, half_width: f64) -> Series {
         let n = self.t.len();
         let y = (0..n)
             .map(|i| {
-                let lo = i.saturating_sub(half_window);
-                let hi = (i + half_window + 1).min(n);
+                let lo = self.t.partition_point(|&s| s < self.t[i] - half_width);
+                let hi = self.t.partition_point(|&s| s <= self.t[i] + half_width);
                 least_squares_slope(&self.t[lo..hi], &self.y[lo..hi])
             })
             .collect();
@@ -139,7 +140,7 @@ mod tests {
     #[test]
     fn slope_recovers_a_constant_speed() {
         let s = ramp();
-        let v = s.slope(3);
+        let v = s.slope(0.3);
         assert!((v.y[25] - 2.0).abs() < 1e-9);
         assert!(v.y[2].abs() < 1e-12);
     }

@@ -20,14 +20,19 @@ pub struct MuRuns {
     pub spectral: Vec<TipRow>,
 }
 
-/// Least-squares half-window for tip speeds, in output samples: ±5 samples of 2e-5 s is
-/// ±1e-4 s, in which a crack at c_R runs ~14 elements (fem-method §8: a few h/c_R at least).
-const SPEED_HALF_WINDOW: usize = 5;
+/// Least-squares half-window for tip speeds [s]: ±1e-4 s, in which a crack at c_R runs
+/// ~14 elements of 1 mm (fem-method §8: a few h/c_R at least).
+const SPEED_HALF_WINDOW_S: f64 = 1e-4;
+
+/// Tip curves are drawn up to this half-length [a]: the FE domain ends at 2a, and the
+/// spectral crack, in its 30a periodic domain, runs on far beyond what the FE model can show.
+const PLOT_MAX_HALF_LENGTH: f64 = 2.0;
 
 fn normalised(s: &Series, case: &Case, t_origin: f64) -> Vec<(f64, f64)> {
     s.t.iter()
         .zip(&s.y)
         .map(|(t, y)| ((t - t_origin) / case.duration, y / case.half_length))
+        .filter(|p| p.1 <= PLOT_MAX_HALF_LENGTH)
         .collect()
 }
 
@@ -112,7 +117,8 @@ fn velocity_figure(path: &Path, case: &Case, runs: &[MuRuns]) -> Result<()> {
             ("FE", &r.fem, 0.0, Dash::Solid),
             ("spectral", &r.spectral, case.shift(), Dash::Dashed),
         ] {
-            let v = Series::half_length(rows).slope(SPEED_HALF_WINDOW);
+            let l = Series::half_length(rows);
+            let v = l.slope(SPEED_HALF_WINDOW_S);
             let pts =
                 v.t.iter()
                     .zip(&v.y)
