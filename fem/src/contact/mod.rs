@@ -15,8 +15,8 @@ mod tests_sliding;
 use nalgebra::Vector2;
 
 use crate::law::friction::Friction;
-use forces::{SlaveHistory, node_geometry, respond, scatter};
-use geometry::SegmentFrame;
+use forces::{ContactResponse, SlaveHistory, node_geometry, respond, scatter};
+use geometry::{Projection, SegmentFrame};
 use search::{BucketGrid, Limits, Slave, closest_master};
 
 /// Parameters of the contact pass (fem-method §5).
@@ -121,6 +121,21 @@ impl ContactState {
             area: vec![0.0; num_nodes],
             history: vec![None; num_nodes],
         }
+    }
+
+    /// Stores node i's contact element of this step: results and next step's friction history.
+    fn record(&mut self, i: usize, segment: [u32; 2], proj: &Projection, r: &ContactResponse) {
+        self.in_contact[i] = true;
+        self.penetration[i] = -proj.gap;
+        self.normal_pressure[i] = r.normal_pressure;
+        self.tangential_traction[i] = r.friction.traction;
+        self.slipping[i] = r.friction.slipping;
+        self.history[i] = Some(SlaveHistory {
+            segment,
+            xi: proj.xi,
+            tangent: proj.frame.tangent,
+            traction: r.friction.traction,
+        });
     }
 
     /// Clears node i's results and friction history (no contact element this step).
@@ -232,20 +247,9 @@ pub(crate) fn resolve(
             x,
         );
         scatter(f, node, segment, proj.xi_clamped, r.force);
-        let penetration = -proj.gap;
-        state.in_contact[i] = true;
-        state.penetration[i] = penetration;
-        state.normal_pressure[i] = r.normal_pressure;
-        state.tangential_traction[i] = r.friction.traction;
-        state.slipping[i] = r.friction.slipping;
-        state.history[i] = Some(SlaveHistory {
-            segment,
-            xi: proj.xi,
-            tangent: proj.frame.tangent,
-            traction: r.friction.traction,
-        });
+        state.record(i, segment, &proj, &r);
         summary.contacts += 1;
-        summary.max_penetration = summary.max_penetration.max(penetration);
+        summary.max_penetration = summary.max_penetration.max(-proj.gap);
         summary.friction_dissipation +=
             forces::AVERAGING_WEIGHT * area * p.friction_coeff * r.normal_pressure * r.friction.plastic_slip;
     }
