@@ -10,13 +10,13 @@ use crate::solver::{Model, State, far_field};
 fn walk(model: &Model, st: &State, dir: isize, pred: impl Fn(PointState) -> bool) -> Option<usize> {
     let n = model.n as isize;
     let c = model.center_index as isize;
-    if !pred(st.strength[c as usize].state) {
+    if !pred(st.points[c as usize].strength.state) {
         return None;
     }
     let mut m = c;
     for _ in 0..(n / 2 - 1) {
         let next = (m + dir).rem_euclid(n);
-        if !pred(st.strength[next as usize].state) {
+        if !pred(st.points[next as usize].strength.state) {
             break;
         }
         m = next;
@@ -48,15 +48,16 @@ pub(crate) fn contact_means(model: &Model, st: &State, t: f64) -> ContactMeanRec
     let (mut max_t2, mut max_pen) = (f64::NEG_INFINITY, 0.0f64);
     for m in 0..model.n {
         max_pen = max_pen.max(st.u.bottom_y[m] - st.u.top_y[m]);
-        if !st.in_contact[m] {
+        let p = &st.points[m];
+        if !p.in_contact {
             continue;
         }
-        max_t2 = max_t2.max(st.traction_y[m]);
+        max_t2 = max_t2.max(p.traction[1]);
         if model.on_precrack[m] {
             count += 1;
-            slipping += u32::from(st.slipping[m]);
-            sum_n += st.traction_y[m].abs();
-            sum_t += st.traction_x[m].abs();
+            slipping += u32::from(p.slipping);
+            sum_n += p.traction[1].abs();
+            sum_t += p.traction[0].abs();
         }
     }
     let mean = |s: f64| if count > 0 { s / count as f64 } else { 0.0 };
@@ -77,7 +78,8 @@ pub(crate) fn contact_means(model: &Model, st: &State, t: f64) -> ContactMeanRec
 pub(crate) fn fields(model: &Model, st: &State, t: f64, out: &mut Vec<FieldRecord>) {
     let smax = model.cohesive.sigma_max;
     for m in 0..model.n {
-        let s = st.strength[m];
+        let p = &st.points[m];
+        let s = p.strength;
         out.push(FieldRecord {
             t,
             x: model.x[m],
@@ -85,12 +87,12 @@ pub(crate) fn fields(model: &Model, st: &State, t: f64, out: &mut Vec<FieldRecor
             opening: st.u.top_y[m] - st.u.bottom_y[m],
             damage: 1.0 - s.sigma / smax,
             state: s.state as u8,
-            shear_traction: st.traction_x[m],
-            normal_traction: st.traction_y[m],
-            vx_top: st.v.top_x[m],
-            vy_top: st.v.top_y[m],
-            vx_bottom: st.v.bottom_x[m],
-            vy_bottom: st.v.bottom_y[m],
+            shear_traction: p.traction[0],
+            normal_traction: p.traction[1],
+            vx_top: p.v[0],
+            vy_top: p.v[1],
+            vx_bottom: p.v[2],
+            vy_bottom: p.v[3],
         });
     }
 }

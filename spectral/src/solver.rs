@@ -2,6 +2,8 @@
 //! law (§5) → velocities and tractions; then `advance` updates the displacements. No I/O, no
 //! allocation after `build`.
 
+use rayon::prelude::*;
+
 use crate::elastodynamics::{FaceFields, HalfSpaceParams, HalfSpaces};
 use crate::error::BuildError;
 use crate::law::PointState;
@@ -29,16 +31,25 @@ pub(crate) struct Model {
     pub scene: Scene,
 }
 
-/// Evolving state (SoA over grid points).
+/// Per-point interface state and step results (one record per grid point, so the law loop
+/// parallelises over points).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Point {
+    pub strength: Strength,
+    /// Regularised normal stress σ̃ [Pa].
+    pub reg_normal: f64,
+    pub in_contact: bool,
+    pub slipping: bool,
+    /// (T_1, T_2) [Pa].
+    pub traction: [f64; 2],
+    /// Face velocities (top x, top y, bottom x, bottom y) [m/s].
+    pub v: [f64; 4],
+}
+
+/// Evolving state: face displacements (SoA, the FFT input) and per-point records.
 pub(crate) struct State {
     pub u: FaceFields,
-    pub v: FaceFields,
-    pub strength: Vec<Strength>,
-    pub reg_normal: Vec<f64>,
-    pub in_contact: Vec<bool>,
-    pub slipping: Vec<bool>,
-    pub traction_x: Vec<f64>,
-    pub traction_y: Vec<f64>,
+    pub points: Vec<Point>,
 }
 
 /// Buffers and the elastodynamic operator.
@@ -61,14 +72,19 @@ pub(crate) fn build(scene: &Scene) -> Result<(Model, State, Workspace), BuildErr
         .map(|&x| (x - scene.center_x).abs() < scene.half_length)
         .collect();
     let cohesive = CohesiveParams::from_paper(scene.sigma_c, scene.delta_c, scene.beta, scene.kappa);
-    let strength = on_precrack
+    let points = on_precrack
         .iter()
-        .map(|&c| {
-            if c {
+        .map(|&c| Point {
+            strength: if c {
                 Strength::precut(&cohesive)
             } else {
                 Strength::intact(&cohesive)
-            }
+            },
+            reg_normal: 0.0,
+            in_contact: false,
+            slipping: false,
+            traction: [0.0; 2],
+            v: [0.0; 4],
         })
         .collect();
     let dt = scene.time_step();
@@ -124,13 +140,7 @@ pub(crate) fn build(scene: &Scene) -> Result<(Model, State, Workspace), BuildErr
     };
     let state = State {
         u: FaceFields::zeros(n),
-        v: FaceFields::zeros(n),
-        strength,
-        reg_normal: vec![0.0; n],
-        in_contact: vec![false; n],
-        slipping: vec![false; n],
-        traction_x: vec![0.0; n],
-        traction_y: vec![0.0; n],
+        points,
     };
     let ws = Workspace {
         half: HalfSpaces::new(&params)?,
@@ -151,65 +161,68 @@ pub(crate) fn far_field(model: &Model, t: f64) -> (f64, f64) {
 /// velocity is non-finite or exceeds `v_limit` (blow-up), if any.
 pub(crate) fn step(model: &Model, st: &mut State, ws: &mut Workspace, n: u64) -> Option<usize> {
     let t = n as f64 * model.dt;
-    let (sxy, syy) = far_field(model, t);
+    let load = far_field(model, t);
     ws.half.step(&st.u, &mut ws.f);
-    let f = &ws.f;
-    let mut bad = None;
-    for m in 0..model.n {
-        let t01 = sxy + model.nucleation[m];
-        let (s1t, s1b) = (t01 + f.top_x[m], t01 + f.bottom_x[m]);
-        let (s2t, s2b) = (syy + f.top_y[m], syy + f.bottom_y[m]);
-        let opening = st.u.top_y[m] - st.u.bottom_y[m];
-        let slip = st.u.top_x[m] - st.u.bottom_x[m];
-        let mut s = cohesive::update(&model.cohesive, opening, slip, st.strength[m]);
-        let normal = contact::solve(&NormalInput {
-            s_top: s2t,
-            s_bottom: s2b,
-            strength: s.sigma,
-            opening,
-            impedance: model.z_normal,
-            dt: model.dt,
-            contact: model.contact,
-        });
-        let tau = if normal.branch == NormalBranch::Contact {
-            s.state = PointState::Contact;
-            let prev = st.in_contact[m].then_some(st.reg_normal[m]);
-            st.reg_normal[m] = friction::regularized_normal(prev, normal.traction, model.relax);
-            model.friction_coeff * st.reg_normal[m].abs()
-        } else {
-            s.tau
-        };
-        st.in_contact[m] = normal.branch == NormalBranch::Contact;
-        let shear = friction::solve_shear(s1t, s1b, tau, model.z_shear);
-        st.strength[m] = s;
-        st.slipping[m] = shear.slipping;
-        st.traction_x[m] = shear.traction;
-        st.traction_y[m] = normal.traction;
-        st.v.top_x[m] = shear.v_top;
-        st.v.bottom_x[m] = shear.v_bottom;
-        st.v.top_y[m] = normal.v_top;
-        st.v.bottom_y[m] = normal.v_bottom;
-        let vmax = shear
-            .v_top
-            .abs()
-            .max(shear.v_bottom.abs())
-            .max(normal.v_top.abs())
-            .max(normal.v_bottom.abs());
-        if bad.is_none() && (vmax.is_nan() || vmax > model.v_limit) {
-            bad = Some(m);
-        }
-    }
-    bad
+    let (f, u) = (&ws.f, &st.u);
+    st.points
+        .par_iter_mut()
+        .enumerate()
+        .with_min_len(512)
+        .filter_map(|(m, p)| solve_point(model, load, m, f, u, p).then_some(m))
+        .min()
+}
+
+/// Interface law at point m (§5.4 order): strengths from δ^n → normal solve → [contact + friction
+/// update] → shear solve. Returns true if the velocity blew up.
+fn solve_point(
+    model: &Model,
+    (sxy, syy): (f64, f64),
+    m: usize,
+    f: &FaceFields,
+    u: &FaceFields,
+    p: &mut Point,
+) -> bool {
+    let t01 = sxy + model.nucleation[m];
+    let (s1t, s1b) = (t01 + f.top_x[m], t01 + f.bottom_x[m]);
+    let (s2t, s2b) = (syy + f.top_y[m], syy + f.bottom_y[m]);
+    let opening = u.top_y[m] - u.bottom_y[m];
+    let slip = u.top_x[m] - u.bottom_x[m];
+    let mut s = cohesive::update(&model.cohesive, opening, slip, p.strength);
+    let normal = contact::solve(&NormalInput {
+        s_top: s2t,
+        s_bottom: s2b,
+        strength: s.sigma,
+        opening,
+        impedance: model.z_normal,
+        dt: model.dt,
+        contact: model.contact,
+    });
+    let tau = if normal.branch == NormalBranch::Contact {
+        s.state = PointState::Contact;
+        let prev = p.in_contact.then_some(p.reg_normal);
+        p.reg_normal = friction::regularized_normal(prev, normal.traction, model.relax);
+        model.friction_coeff * p.reg_normal.abs()
+    } else {
+        s.tau
+    };
+    p.in_contact = normal.branch == NormalBranch::Contact;
+    let shear = friction::solve_shear(s1t, s1b, tau, model.z_shear);
+    p.strength = s;
+    p.slipping = shear.slipping;
+    p.traction = [shear.traction, normal.traction];
+    p.v = [shear.v_top, normal.v_top, shear.v_bottom, normal.v_bottom];
+    let vmax = p.v.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    vmax.is_nan() || vmax > model.v_limit
 }
 
 /// u^{n+1} = u^n + Δt v^n (§4 step 7).
 pub(crate) fn advance(model: &Model, st: &mut State) {
     let dt = model.dt;
-    let (u, v) = (&mut st.u, &st.v);
-    for m in 0..model.n {
-        u.top_x[m] += dt * v.top_x[m];
-        u.top_y[m] += dt * v.top_y[m];
-        u.bottom_x[m] += dt * v.bottom_x[m];
-        u.bottom_y[m] += dt * v.bottom_y[m];
+    let u = &mut st.u;
+    for (m, p) in st.points.iter().enumerate() {
+        u.top_x[m] += dt * p.v[0];
+        u.top_y[m] += dt * p.v[1];
+        u.bottom_x[m] += dt * p.v[2];
+        u.bottom_y[m] += dt * p.v[3];
     }
 }
