@@ -53,6 +53,7 @@ struct State {
 /// One mode: s ← z s + u for every pole, then H = Σ Re(g_H s) (H11 on x lanes, H22 on y lanes) and
 /// K = Σ Re(g_K12 s). Written as vertical operations on 8-lane arrays so it vectorises.
 #[inline(always)]
+#[allow(clippy::needless_range_loop)] // lane-indexed vertical ops over four arrays: clearer than a 4-way zip
 fn mode_kernel(z: &[Complex64], g: &[[Complex64; 3]], s: &mut [State], u: &Lanes) -> (Lanes, Lanes) {
     let mut h = [0.0f64; 8];
     let mut k = [0.0f64; 8];
