@@ -1,10 +1,12 @@
 //! Scene: TOML text -> `RawScene` (serde) -> `validate()` -> typed `Scene`. No physics beyond the
 //! stable-step formula needed to check a requested step.
 
+mod boundary;
 mod fem;
 mod raw;
 
-pub use fem::{BoundaryComponent, BoundaryKind, BoundarySpec, DampingSet, FemSpec, InsertionRule, ModelKind};
+pub use boundary::{BoundaryComponent, BoundaryKind, BoundarySpec};
+pub use fem::{DampingSet, FemSpec, InsertionRule, ModelKind};
 
 use crate::error::SceneError;
 use crate::law::cohesive::LinearCohesive;

@@ -40,6 +40,8 @@ fn time_steps_do_not_allocate() {
     let scene = fem::Scene::from_toml_str(&std::fs::read_to_string(path).unwrap()).unwrap();
     let (model, mut state, mut ws) = fem::build(&scene).unwrap();
     // warm-up: rayon's pool, its deques and thread-local latches are created on first use
+    // (broadcast waits until every worker thread has started: thread start-up allocates)
+    rayon::broadcast(|_| ());
     rayon::scope(|_| {
         for _ in 0..5 {
             fem::step(&model, &mut state, &mut ws, true).unwrap();

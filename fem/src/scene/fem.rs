@@ -1,7 +1,8 @@
 //! The `[fem]` section: discretisation, model options, boundary conditions.
 
-use super::raw::{RawBoundaryComponent, RawFem, RawSide};
-use super::{Crack, Ramp, check};
+use super::boundary::{BoundarySpec, side};
+use super::raw::RawFem;
+use super::{Crack, check};
 use crate::error::SceneError;
 
 /// Largest allowed safety factor α of the stable step (fem-method §2, §10.11).
@@ -34,32 +35,6 @@ pub enum DampingSet {
     AllCohesive,
     /// Contact slaves and nodes of cohesive elements inserted within the last N steps.
     RecentCohesive(u64),
-}
-
-/// Kind of a boundary condition component.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum BoundaryKind {
-    /// Imposed displacement [m], uniform along the side.
-    Displacement,
-    /// Imposed traction [Pa] (Neumann, consistent nodal forces), uniform along the side.
-    Traction,
-}
-
-/// One component (x or y) of a side's boundary condition.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct BoundaryComponent {
-    /// Displacement or traction.
-    pub kind: BoundaryKind,
-    /// History of the value ([m] or [Pa]) through the ramp of eq. (B.1).
-    pub ramp: Ramp,
-}
-
-/// Side-wise boundary conditions replacing the Westergaard field; sides or components not given are free.
-/// Index order: [bottom, right, top, left], each [x, y].
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct BoundarySpec {
-    /// Per side, per component.
-    pub sides: [[Option<BoundaryComponent>; 2]; 4],
 }
 
 /// Validated `[fem]` section.
@@ -106,7 +81,7 @@ pub struct FemSpec {
     pub boundary: Option<BoundarySpec>,
 }
 
-fn option<T: Copy>(
+pub(crate) fn option<T: Copy>(
     field: &'static str,
     value: Option<&String>,
     default: T,
@@ -128,42 +103,6 @@ fn option<T: Copy>(
 fn is_multiple(length: f64, h: f64) -> bool {
     let n = length / h;
     (n - n.round()).abs() < 1e-6 && n.round() >= 1.0
-}
-
-fn component(field: &'static str, c: &RawBoundaryComponent) -> Result<BoundaryComponent, SceneError> {
-    let kind = option(
-        field,
-        Some(&c.kind),
-        BoundaryKind::Displacement,
-        &[
-            ("displacement", BoundaryKind::Displacement),
-            ("traction", BoundaryKind::Traction),
-        ],
-        "\"displacement\" [m] or \"traction\" [Pa]",
-    )?;
-    check(field, c.initial, true, "a finite number")?;
-    check(field, c.final_, true, "a finite number")?;
-    check(field, c.ramp_start, c.ramp_start >= 0.0, "ramp_start >= 0 s")?;
-    check(
-        field,
-        c.ramp_end,
-        c.ramp_end >= c.ramp_start,
-        "ramp_end >= ramp_start",
-    )?;
-    let ramp = Ramp {
-        initial: c.initial,
-        final_value: c.final_,
-        ramp_start: c.ramp_start,
-        ramp_end: c.ramp_end,
-    };
-    Ok(BoundaryComponent { kind, ramp })
-}
-
-fn side(names: [&'static str; 2], s: &Option<RawSide>) -> Result<[Option<BoundaryComponent>; 2], SceneError> {
-    let Some(s) = s else { return Ok([None, None]) };
-    let x = s.x.as_ref().map(|c| component(names[0], c)).transpose()?;
-    let y = s.y.as_ref().map(|c| component(names[1], c)).transpose()?;
-    Ok([x, y])
 }
 
 fn geometry(f: &RawFem, crack: Option<&Crack>) -> Result<(), SceneError> {
@@ -209,33 +148,41 @@ fn geometry(f: &RawFem, crack: Option<&Crack>) -> Result<(), SceneError> {
 /// Validates `[fem]` against the pre-crack and the duration.
 pub(crate) fn validate_fem(f: &RawFem, crack: Option<&Crack>, duration: f64) -> Result<FemSpec, SceneError> {
     geometry(f, crack)?;
-    let h = f.element_size;
+    let (model, insertion_rule, damping) = options(f)?;
+    let (time_step_safety, eps_n, eps_t) = step_and_penalties(f, duration)?;
+    let (damping_factor, max_gap, projection_tolerance) = damping_and_contact(f)?;
+    let (upper_offset, boundary) = blocks_and_boundary(f, crack)?;
+    Ok(FemSpec {
+        x_range: f.x_range,
+        y_range: f.y_range,
+        element_size: f.element_size,
+        model,
+        time_step_safety,
+        requested_time_step: f.time_step,
+        eps_n,
+        eps_t,
+        lateral_contraction: f.lateral_contraction.unwrap_or(true),
+        output_interval: f.output_interval,
+        insertion_rule,
+        damping,
+        damping_factor,
+        max_gap,
+        projection_tolerance,
+        upper_offset,
+        interface_polyline: polyline(f, upper_offset)?,
+        probes: probes(f)?,
+        boundary,
+    })
+}
+
+/// The string options: model, insertion rule, damped set.
+fn options(f: &RawFem) -> Result<(ModelKind, InsertionRule, DampingSet), SceneError> {
     let model = option(
         "fem.model",
         f.model.as_ref(),
         ModelKind::Hybrid,
         &[("hybrid", ModelKind::Hybrid), ("standard", ModelKind::Standard)],
         "\"hybrid\" or \"standard\"",
-    )?;
-    let alpha = f.time_step_safety.unwrap_or(0.5);
-    check(
-        "fem.time_step_safety",
-        alpha,
-        alpha > 0.0 && alpha <= MAX_SAFETY,
-        "(0, 0.9]",
-    )?;
-    if let Some(dt) = f.time_step {
-        check("fem.time_step", dt, dt > 0.0, "> 0 s")?;
-    }
-    let eps_n = f.eps_n.unwrap_or(0.0);
-    let eps_t = f.eps_t.unwrap_or(eps_n);
-    check("fem.eps_n", eps_n, eps_n >= 0.0, ">= 0 Pa/m")?;
-    check("fem.eps_t", eps_t, eps_t >= 0.0, ">= 0 Pa/m")?;
-    check(
-        "fem.output_interval",
-        f.output_interval,
-        f.output_interval > 0.0 && f.output_interval <= duration,
-        "(0, loading.duration] s",
     )?;
     let insertion_rule = option(
         "fem.insertion_rule",
@@ -256,22 +203,54 @@ pub(crate) fn validate_fem(f: &RawFem, crack: Option<&Crack>, duration: f64) -> 
         ],
         "\"contact_only\", \"all_cohesive\" or \"recent_cohesive\"",
     )?;
-    let damping_factor = f.damping_factor.unwrap_or(0.99);
+    Ok((model, insertion_rule, damping))
+}
+
+/// Safety factor α, requested step, output interval and penalties (α, ε_n, ε_t).
+fn step_and_penalties(f: &RawFem, duration: f64) -> Result<(f64, f64, f64), SceneError> {
+    let alpha = f.time_step_safety.unwrap_or(0.5);
     check(
-        "fem.damping_factor",
-        damping_factor,
-        damping_factor > 0.0 && damping_factor <= 1.0,
-        "(0, 1]",
+        "fem.time_step_safety",
+        alpha,
+        alpha > 0.0 && alpha <= MAX_SAFETY,
+        "(0, 0.9]",
     )?;
-    let max_gap = f.max_gap.unwrap_or(h);
+    if let Some(dt) = f.time_step {
+        check("fem.time_step", dt, dt > 0.0, "> 0 s")?;
+    }
+    let dt_out = f.output_interval;
+    check(
+        "fem.output_interval",
+        dt_out,
+        dt_out > 0.0 && dt_out <= duration,
+        "(0, loading.duration] s",
+    )?;
+    let eps_n = f.eps_n.unwrap_or(0.0);
+    let eps_t = f.eps_t.unwrap_or(eps_n);
+    check("fem.eps_n", eps_n, eps_n >= 0.0, ">= 0 Pa/m")?;
+    check("fem.eps_t", eps_t, eps_t >= 0.0, ">= 0 Pa/m")?;
+    Ok((alpha, eps_n, eps_t))
+}
+
+/// Damping factor, detection distance d_max [m] and projection tolerance.
+fn damping_and_contact(f: &RawFem) -> Result<(f64, f64, f64), SceneError> {
+    let c = f.damping_factor.unwrap_or(0.99);
+    check("fem.damping_factor", c, c > 0.0 && c <= 1.0, "(0, 1]")?;
+    let max_gap = f.max_gap.unwrap_or(f.element_size);
     check("fem.max_gap", max_gap, max_gap > 0.0, "> 0 m")?;
-    let projection_tolerance = f.projection_tolerance.unwrap_or(1e-3);
+    let tol = f.projection_tolerance.unwrap_or(1e-3);
     check(
         "fem.projection_tolerance",
-        projection_tolerance,
-        (0.0..0.5).contains(&projection_tolerance),
+        tol,
+        (0.0..0.5).contains(&tol),
         "[0, 0.5)",
     )?;
+    Ok((c, max_gap, tol))
+}
+
+/// Upper-block offset (full-width pre-crack only) and side-wise boundary conditions (required
+/// unless a centre pre-crack lets the Westergaard field apply).
+fn blocks_and_boundary(f: &RawFem, crack: Option<&Crack>) -> Result<(f64, Option<BoundarySpec>), SceneError> {
     let upper_offset = f.upper_offset.unwrap_or(0.0);
     check(
         "fem.upper_offset",
@@ -300,10 +279,14 @@ pub(crate) fn validate_fem(f: &RawFem, crack: Option<&Crack>, duration: f64) -> 
     };
     if boundary.is_none() && (crack.is_none() || full_width) {
         return Err(SceneError::Geometry(
-            "the Westergaard boundary field needs a centre pre-crack inside the domain; give [fem.boundary] instead".to_string(),
+            "the Westergaard boundary field needs a centre pre-crack inside the domain; give [fem.boundary] instead"
+                .to_string(),
         ));
     }
-    let interface_polyline = polyline(f, upper_offset)?;
+    Ok((upper_offset, boundary))
+}
+
+fn probes(f: &RawFem) -> Result<Vec<[f64; 2]>, SceneError> {
     let probes = f.probes.clone().unwrap_or_default();
     for p in &probes {
         check(
@@ -319,27 +302,7 @@ pub(crate) fn validate_fem(f: &RawFem, crack: Option<&Crack>, duration: f64) -> 
             "inside fem.y_range",
         )?;
     }
-    Ok(FemSpec {
-        x_range: f.x_range,
-        y_range: f.y_range,
-        element_size: h,
-        model,
-        time_step_safety: alpha,
-        requested_time_step: f.time_step,
-        eps_n,
-        eps_t,
-        lateral_contraction: f.lateral_contraction.unwrap_or(true),
-        output_interval: f.output_interval,
-        insertion_rule,
-        damping,
-        damping_factor,
-        max_gap,
-        projection_tolerance,
-        upper_offset,
-        interface_polyline,
-        probes,
-        boundary,
-    })
+    Ok(probes)
 }
 
 fn polyline(f: &RawFem, upper_offset: f64) -> Result<Option<Vec<[f64; 2]>>, SceneError> {
