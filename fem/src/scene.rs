@@ -170,8 +170,7 @@ fn ramp(field: &'static str, r: Option<RawRamp>) -> Result<Ramp, SceneError> {
     })
 }
 
-fn validate(raw: RawScene) -> Result<Scene, SceneError> {
-    let m = &raw.material;
+fn material(m: &raw::RawMaterial) -> Result<PlaneStrain, SceneError> {
     check(
         "material.youngs_modulus",
         m.youngs_modulus,
@@ -185,33 +184,35 @@ fn validate(raw: RawScene) -> Result<Scene, SceneError> {
         "[0, 0.5)",
     )?;
     check("material.density", m.density, m.density > 0.0, "> 0 kg/m^3")?;
-    let material = PlaneStrain::new(m.youngs_modulus, m.poisson_ratio, m.density);
-    let interface = match &raw.interface {
-        None => None,
-        Some(i) => {
-            check("interface.sigma_c", i.sigma_c, i.sigma_c > 0.0, "> 0 Pa")?;
-            check("interface.delta_c", i.delta_c, i.delta_c > 0.0, "> 0 m")?;
-            check("interface.beta", i.beta, i.beta > 0.0, "> 0")?;
-            check("interface.kappa", i.kappa, i.kappa > 0.0, "> 0")?;
-            Some(LinearCohesive {
-                sigma_c: i.sigma_c,
-                delta_c: i.delta_c,
-                beta: i.beta,
-                kappa: i.kappa,
-            })
-        }
-    };
-    let crack = match &raw.crack {
-        None => None,
-        Some(c) => {
-            check("crack.half_length", c.half_length, c.half_length > 0.0, "> 0 m")?;
-            check("crack.center_x", c.center_x, true, "a finite number")?;
-            Some(Crack {
-                half_length: c.half_length,
-                center_x: c.center_x,
-            })
-        }
-    };
+    Ok(PlaneStrain::new(m.youngs_modulus, m.poisson_ratio, m.density))
+}
+
+fn interface(i: &raw::RawInterface) -> Result<LinearCohesive, SceneError> {
+    check("interface.sigma_c", i.sigma_c, i.sigma_c > 0.0, "> 0 Pa")?;
+    check("interface.delta_c", i.delta_c, i.delta_c > 0.0, "> 0 m")?;
+    check("interface.beta", i.beta, i.beta > 0.0, "> 0")?;
+    check("interface.kappa", i.kappa, i.kappa > 0.0, "> 0")?;
+    Ok(LinearCohesive {
+        sigma_c: i.sigma_c,
+        delta_c: i.delta_c,
+        beta: i.beta,
+        kappa: i.kappa,
+    })
+}
+
+fn crack(c: &raw::RawCrack) -> Result<Crack, SceneError> {
+    check("crack.half_length", c.half_length, c.half_length > 0.0, "> 0 m")?;
+    check("crack.center_x", c.center_x, true, "a finite number")?;
+    Ok(Crack {
+        half_length: c.half_length,
+        center_x: c.center_x,
+    })
+}
+
+fn validate(raw: RawScene) -> Result<Scene, SceneError> {
+    let material = material(&raw.material)?;
+    let interface = raw.interface.as_ref().map(interface).transpose()?;
+    let crack = raw.crack.as_ref().map(crack).transpose()?;
     let friction_coeff = raw.friction.as_ref().map_or(0.0, |f| f.friction_coeff);
     check(
         "friction.friction_coeff",

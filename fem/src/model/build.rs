@@ -25,29 +25,10 @@ pub fn build_with_row_map(
     row_map: Option<&dyn Fn(f64) -> f64>,
 ) -> Result<(Model, State, Workspace), BuildError> {
     let f = &scene.fem;
-    let h = f.element_size;
-    let nx = ((f.x_range[1] - f.x_range[0]) / h).round() as usize;
-    let ny = ((f.y_range[1] - f.y_range[0]) / h).round() as usize;
-    let jc = (-f.y_range[0] / h).round() as usize;
-    let twinned = scene.crack.is_some() || scene.interface.is_some();
-    let grid = Grid::new(&GridSpec {
-        x_range: f.x_range,
-        y_range: f.y_range,
-        nx,
-        ny,
-        twinned_row: twinned.then_some(jc),
-        upper_shift: f.upper_offset * h,
-        row_map: row_map.map(|m| (jc, m)),
-    });
+    let grid = grid(scene, row_map);
     let d = scene.material.d_matrix();
     let stiffness = stiffness(&grid, &d)?;
-    let mut mass = vec![0.0; grid.num_nodes()];
-    for e in 0..grid.num_elements() {
-        let m = bulk::lumped_mass(&grid.element_coords(e), scene.material.density);
-        for (k, n) in grid.element_nodes(e).iter().enumerate() {
-            mass[*n as usize] += m[k];
-        }
-    }
+    let mass = lumped_masses(&grid, scene.material.density);
     let crack = scene.crack.map(|c| (c.center_x, c.half_length));
     let iface = InterfaceRow::new(&grid, crack, scene.interface.is_some());
     let bd = loading::boundary(scene, &grid);
@@ -59,17 +40,6 @@ pub fn build_with_row_map(
             })
             .collect()
     });
-    let contact = scene.has_contact().then_some(ContactParams {
-        eps_n: f.eps_n,
-        eps_t: f.eps_t,
-        friction_coeff: scene.friction_coeff,
-        max_gap: f.max_gap,
-        projection_tolerance: f.projection_tolerance,
-    });
-    let closing = match f.model {
-        ModelKind::Hybrid => ClosingTreatment::Hybrid,
-        ModelKind::Standard => ClosingTreatment::Standard { eps_n: f.eps_n },
-    };
     let mut fixed_node = vec![false; grid.num_nodes()];
     for p in &bd.prescribed {
         fixed_node[p.node as usize] = true;
@@ -86,11 +56,20 @@ pub fn build_with_row_map(
         dt: scene.time_step(),
         cd: scene.wave_speeds().cd,
         law: scene.interface,
-        closing,
+        closing: match f.model {
+            ModelKind::Hybrid => ClosingTreatment::Hybrid,
+            ModelKind::Standard => ClosingTreatment::Standard { eps_n: f.eps_n },
+        },
         insertion_rule: f.insertion_rule,
         damping: f.damping,
         damping_factor: f.damping_factor,
-        contact,
+        contact: scene.has_contact().then_some(ContactParams {
+            eps_n: f.eps_n,
+            eps_t: f.eps_t,
+            friction_coeff: scene.friction_coeff,
+            max_gap: f.max_gap,
+            projection_tolerance: f.projection_tolerance,
+        }),
         ramps: bd.ramps,
         prescribed: bd.prescribed,
         neumann: bd.neumann,
@@ -103,27 +82,61 @@ pub fn build_with_row_map(
         grid,
     };
     let state = initial_state(&model);
-    let row_len = model.iface.as_ref().map_or(0, |r| 2 * r.minus.len());
+    let ws = workspace(&model);
+    Ok((model, state, ws))
+}
+
+/// The structured grid of the scene; the y = 0 row is twinned when a pre-crack or an interface exists.
+fn grid(scene: &Scene, row_map: Option<&dyn Fn(f64) -> f64>) -> Grid {
+    let f = &scene.fem;
+    let h = f.element_size;
+    let jc = (-f.y_range[0] / h).round() as usize;
+    let twinned = scene.crack.is_some() || scene.interface.is_some();
+    Grid::new(&GridSpec {
+        x_range: f.x_range,
+        y_range: f.y_range,
+        nx: ((f.x_range[1] - f.x_range[0]) / h).round() as usize,
+        ny: ((f.y_range[1] - f.y_range[0]) / h).round() as usize,
+        twinned_row: twinned.then_some(jc),
+        upper_shift: f.upper_offset * h,
+        row_map: row_map.map(|m| (jc, m)),
+    })
+}
+
+/// Row-sum lumped nodal masses [kg/m].
+fn lumped_masses(grid: &Grid, density: f64) -> Vec<f64> {
+    let mut mass = vec![0.0; grid.num_nodes()];
+    for e in 0..grid.num_elements() {
+        let m = bulk::lumped_mass(&grid.element_coords(e), density);
+        for (k, n) in grid.element_nodes(e).iter().enumerate() {
+            mass[*n as usize] += m[k];
+        }
+    }
+    mass
+}
+
+/// Every buffer of the step, sized once.
+fn workspace(model: &Model) -> Workspace {
     let n = model.grid.num_nodes();
-    let ws = Workspace {
+    let with_contact = model.contact.is_some();
+    Workspace {
         f: vec![Vector2::zeros(); n],
-        x: if model.contact.is_some() {
+        x: if with_contact {
             model.grid.x0.clone()
         } else {
             Vec::new()
         },
-        f_con: if model.contact.is_some() {
+        f_con: if with_contact {
             vec![Vector2::zeros(); n]
         } else {
             Vec::new()
         },
-        row_u_old: vec![Vector2::zeros(); row_len],
+        row_u_old: vec![Vector2::zeros(); model.iface.as_ref().map_or(0, |r| 2 * r.minus.len())],
         ramp_values: vec![0.0; model.ramps.len()],
         strain_energy: 0.0,
         cohesive_seconds: 0.0,
         contact_seconds: 0.0,
-    };
-    Ok((model, state, ws))
+    }
 }
 
 /// One shared K_e when every element is a translate of element 0, else one per element.
