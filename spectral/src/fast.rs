@@ -132,7 +132,7 @@ impl FastConvolution {
             .zip(self.s[r..].par_chunks_mut(r))
             .zip(self.z[r..].par_chunks(r).zip(self.g[r..].par_chunks(r)))
             .zip(spectra[1..].par_iter())
-            .with_min_len(16)
+            .with_min_len(128)
             .for_each(|(((o, s), (z, g)), e)| {
                 let u = [
                     e.top_x.re,

@@ -50,4 +50,17 @@ mod tests {
         let step = Ramp { ramp_end: 0.0, ..r };
         assert_eq!(ramp_value(&step, 0.0), -5.0);
     }
+
+    #[test]
+    fn nucleation_bump_peaks_at_center_and_vanishes_outside() {
+        let n = Nucleation {
+            shear: 2.0,
+            center: 1.0,
+            half_width: 0.5,
+        };
+        assert_eq!(nucleation_shear(&n, 1.0), 2.0);
+        assert!((nucleation_shear(&n, 1.25) - 1.0).abs() < 1e-15);
+        assert_eq!(nucleation_shear(&n, 1.5), 0.0);
+        assert_eq!(nucleation_shear(&n, -3.0), 0.0);
+    }
 }
