@@ -69,6 +69,12 @@ impl FaceFields {
     }
 }
 
+/// i·z without a full complex multiplication.
+#[inline(always)]
+fn mul_i(z: Complex64) -> Complex64 {
+    Complex64::new(-z.im, z.re)
+}
+
 enum Path {
     Direct {
         history: Box<History>,
@@ -208,21 +214,20 @@ impl HalfSpaces {
     fn assemble(&mut self) {
         let n = self.p.grid_points;
         let (mu, c) = (self.p.shear_modulus, 2.0 - self.p.eta);
-        let i = Complex64::new(0.0, 1.0);
         self.a[0] = Complex64::default();
         self.b[0] = Complex64::default();
         for j in 1..=n / 2 {
             let (s, e, muk) = (&self.sums[j], &self.spectra[j], mu * self.modes.k[j]);
             let couple = if j == n / 2 { 0.0 } else { muk };
-            let f1t = -muk * s.h11_top + i * couple * (c * e.top_y + s.k12_top_y);
-            let f1b = muk * s.h11_bottom + i * couple * (c * e.bottom_y + s.k12_bottom_y);
-            let f2t = -muk * s.h22_top - i * couple * (c * e.top_x + s.k12_top_x);
-            let f2b = muk * s.h22_bottom - i * couple * (c * e.bottom_x + s.k12_bottom_x);
-            self.a[j] = f1t + i * f2t;
-            self.b[j] = f1b + i * f2b;
+            let f1t = -muk * s.h11_top + mul_i(couple * (c * e.top_y + s.k12_top_y));
+            let f1b = muk * s.h11_bottom + mul_i(couple * (c * e.bottom_y + s.k12_bottom_y));
+            let f2t = -muk * s.h22_top - mul_i(couple * (c * e.top_x + s.k12_top_x));
+            let f2b = muk * s.h22_bottom - mul_i(couple * (c * e.bottom_x + s.k12_bottom_x));
+            self.a[j] = f1t + mul_i(f2t);
+            self.b[j] = f1b + mul_i(f2b);
             if j != n / 2 {
-                self.a[n - j] = f1t.conj() + i * f2t.conj();
-                self.b[n - j] = f1b.conj() + i * f2b.conj();
+                self.a[n - j] = f1t.conj() + mul_i(f2t.conj());
+                self.b[n - j] = f1b.conj() + mul_i(f2b.conj());
             }
         }
     }

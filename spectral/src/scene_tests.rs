@@ -1,0 +1,46 @@
+//! Unit tests of scene parsing and validation.
+use super::*;
+
+const SCENE: &str = include_str!("../../scenes/center-crack.toml");
+
+#[test]
+fn center_crack_parses_with_paper_numbers() {
+    let s = Scene::from_toml_str(SCENE).unwrap();
+    let w = s.wave_speeds();
+    assert!((w.cs - 145.18).abs() < 0.01, "cs = {}", w.cs);
+    assert!((w.cd - 302.22).abs() < 0.02, "cd = {}", w.cd);
+    assert!((w.cr / w.cs - 0.9350131).abs() < 1e-7);
+    assert!((s.eta() - 2.081665999).abs() < 1e-9);
+}
+
+#[test]
+fn unstable_cfl_is_refused_with_range() {
+    let text = SCENE.replace("cs_dt_over_dx = 0.2", "cs_dt_over_dx = 0.63");
+    let err = Scene::from_toml_str(&text).unwrap_err().to_string();
+    assert!(
+        err.contains("spectral.cs_dt_over_dx") && err.contains("0.5"),
+        "{err}"
+    );
+}
+
+#[test]
+fn both_or_neither_step_keys_refused() {
+    let text = SCENE.replace("cs_dt_over_dx = 0.2", "cs_dt_over_dx = 0.2\ntime_step = 1e-6");
+    assert!(Scene::from_toml_str(&text).is_err());
+    let text = SCENE.replace("cs_dt_over_dx = 0.2", "");
+    assert!(Scene::from_toml_str(&text).is_err());
+}
+
+#[test]
+fn time_step_key_sets_cfl() {
+    let text = SCENE.replace("cs_dt_over_dx = 0.2", "time_step = 1.53e-6");
+    let s = Scene::from_toml_str(&text).unwrap();
+    assert!((s.time_step() - 1.53e-6).abs() < 1e-15);
+    assert!((s.cs_dt_over_dx - 0.2425).abs() < 1e-3, "{}", s.cs_dt_over_dx);
+}
+
+#[test]
+fn unknown_key_is_refused() {
+    let text = SCENE.replace("[crack]", "[crack]\nwidth = 1.0");
+    assert!(Scene::from_toml_str(&text).is_err());
+}
