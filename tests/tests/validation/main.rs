@@ -41,3 +41,5 @@ mod fem_patch_test;
 mod fem_wave_speeds;
 
 // ---- compare claims (issue: compare) ----
+#[cfg(feature = "fem")]
+mod fem_extremes;
