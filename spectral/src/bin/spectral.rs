@@ -1,13 +1,27 @@
-//! `spectral SCENE.toml [OUT_DIR]`: runs a scene, writes CSV, prints where the outputs went.
+//! `spectral SCENE.toml [--out DIR]`: runs a scene, writes CSV, prints where the outputs went.
 
 use std::path::PathBuf;
 
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 
+const USAGE: &str = "usage: spectral SCENE.toml [--out DIR]   (default DIR: out/spectral-<scene file name>)";
+
 fn main() -> anyhow::Result<()> {
     let mut args = std::env::args().skip(1);
-    let scene_path = PathBuf::from(args.next().context("usage: spectral SCENE.toml [OUT_DIR]")?);
+    let (mut scene_path, mut out_dir) = (None, None);
+    while let Some(a) = args.next() {
+        match a.as_str() {
+            "--out" => out_dir = Some(PathBuf::from(args.next().context("--out needs a directory")?)),
+            "-h" | "--help" => {
+                println!("{USAGE}");
+                return Ok(());
+            }
+            _ if scene_path.is_none() => scene_path = Some(PathBuf::from(a)),
+            _ => anyhow::bail!("unexpected argument {a}; {USAGE}"),
+        }
+    }
+    let scene_path = scene_path.context(USAGE)?;
     let text =
         std::fs::read_to_string(&scene_path).with_context(|| format!("reading {}", scene_path.display()))?;
     let scene =
@@ -15,10 +29,7 @@ fn main() -> anyhow::Result<()> {
     let stem = scene_path
         .file_stem()
         .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
-    let out_dir = args.next().map_or_else(
-        || PathBuf::from("out").join(format!("spectral-{stem}")),
-        PathBuf::from,
-    );
+    let out_dir = out_dir.unwrap_or_else(|| PathBuf::from("out").join(format!("spectral-{stem}")));
     let bar = ProgressBar::new(1);
     bar.set_style(ProgressStyle::with_template(
         "{bar:40} {pos}/{len} steps {elapsed_precise} eta {eta}",
