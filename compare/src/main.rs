@@ -18,6 +18,8 @@ USAGE:
 OPTIONS:
     --scene FILE   scene to run (default: scenes/center-crack.toml)
     --out DIR      output folder (default: out/<scene name>/)
+    --open M@MU    a metric known to fail and tracked as open (e.g. onset_difference_over_T@0.3):
+                   still reported as failing, but it does not set the exit code (repeatable)
     -h, --help     this text
 
 For every friction coefficient in [compare].friction_coeffs the FE model and the spectral model
@@ -36,7 +38,8 @@ sweep: runs the FE model at h = 4, 2, 1, 0.5 mm (rounded so that a/h is whole) a
 spectral model at the power-of-two N nearest to X/h, each in its own process, at the scene's
 [friction].friction_coeff; records wall time, peak memory, onset time and mean tip speed with
 their errors against the finest run of the same model; writes sweep.csv and
-sweep_error_vs_wall_time.png (default folder out/<scene name>-sweep/).
+sweep_error_vs_wall_time.png, and each point's tip history tips_<model>_<h>mm.csv
+(default folder out/<scene name>-sweep/).
 ";
 
 /// What the command line asks for.
@@ -52,6 +55,9 @@ struct Args {
     command: Command,
     scene: PathBuf,
     out: Option<PathBuf>,
+    /// Metrics known to fail and tracked as open (`METRIC@MU`): still printed and written as
+    /// failing, but they do not set the exit code.
+    open: Vec<String>,
 }
 
 fn default_scene() -> PathBuf {
@@ -68,6 +74,7 @@ fn parse_args() -> Result<Option<Args>> {
         command: Command::Gate,
         scene: default_scene(),
         out: None,
+        open: Vec::new(),
     };
     let (mut model, mut size) = (None, None);
     let mut it = std::env::args().skip(1).peekable();
@@ -84,6 +91,7 @@ fn parse_args() -> Result<Option<Args>> {
             "-h" | "--help" => return Ok(None),
             "--scene" => args.scene = it.next().context("--scene needs a file")?.into(),
             "--out" => args.out = Some(it.next().context("--out needs a folder")?.into()),
+            "--open" => args.open.push(it.next().context("--open needs METRIC@MU")?),
             "--model" => model = Some(it.next().context("--model needs fem or spectral")?),
             "--size" => {
                 size = Some(
@@ -132,13 +140,21 @@ impl Reporter for Bars {
     }
 }
 
-fn print_table(verdicts: &[Verdict]) {
+fn is_open(v: &Verdict, open: &[String]) -> bool {
+    open.iter().any(|o| *o == format!("{}@{}", v.metric, v.mu))
+}
+
+fn print_table(verdicts: &[Verdict], open: &[String]) {
     println!(
         "\n{:<38} {:>8} {:>12} {:>10} {:>6}",
         "metric", "mu", "value", "tolerance", "pass"
     );
     for v in verdicts {
-        let pass = if v.pass { "yes" } else { "NO" };
+        let pass = match (v.pass, is_open(v, open)) {
+            (true, _) => "yes",
+            (false, false) => "NO",
+            (false, true) => "NO (open)",
+        };
         println!(
             "{:<38} {:>8} {:>12.5} {:>10} {:>6}",
             v.metric, v.mu, v.value, v.tolerance, pass
@@ -171,7 +187,10 @@ fn real_main() -> Result<bool> {
     match args.command {
         Command::Gate => {}
         Command::SweepPoint(model, h) => {
-            sweep::print_point(&sweep::run_point(&text, model, h)?)?;
+            let dir = args
+                .out
+                .unwrap_or_else(|| PathBuf::from("out").join(format!("{stem}-sweep")));
+            sweep::print_point(&sweep::run_point(&text, model, h, &dir)?)?;
             return Ok(true);
         }
         Command::Sweep => {
@@ -183,18 +202,26 @@ fn real_main() -> Result<bool> {
     }
     let out = args.out.unwrap_or_else(|| PathBuf::from("out").join(stem));
     let report = run_gate(&text, &out, &Bars(MultiProgress::new()))?;
-    print_table(&report.verdicts);
+    print_table(&report.verdicts, &args.open);
     println!("\n{} files written to {}", report.files.len(), out.display());
-    let ok = report.passed();
-    println!(
-        "{}",
-        if ok {
-            "all metrics within tolerance"
-        } else {
-            "SOME METRICS FAIL"
-        }
-    );
-    Ok(ok)
+    let failing: Vec<&Verdict> = report.verdicts.iter().filter(|v| !v.pass).collect();
+    let blocking = failing.iter().filter(|v| !is_open(v, &args.open)).count();
+    for v in report
+        .verdicts
+        .iter()
+        .filter(|v| v.pass && is_open(v, &args.open))
+    {
+        println!(
+            "--open {}@{} now passes: remove it from the command line",
+            v.metric, v.mu
+        );
+    }
+    match (failing.len(), blocking) {
+        (0, _) => println!("all metrics within tolerance"),
+        (n, 0) => println!("{n} metric(s) fail, all of them listed as open with --open"),
+        (n, b) => println!("SOME METRICS FAIL: {n} failing, {b} not listed as open"),
+    }
+    Ok(blocking == 0)
 }
 
 fn run_sweep(scene: &Path, text: &str, out: &Path) -> Result<bool> {
@@ -203,7 +230,7 @@ fn run_sweep(scene: &Path, text: &str, out: &Path) -> Result<bool> {
         ProgressStyle::with_template("sweep [{bar:40}] {pos}/{len} points ({elapsed}) {msg}")
             .expect("invariant: the template is valid"),
     );
-    let points = sweep::run_children(&exe, scene, &mut |p| {
+    let points = sweep::run_children(&exe, scene, out, &mut |p| {
         bar.set_message(format!(
             "{:?} h = {:.2e} m: {:.1} s",
             p.model, p.spacing, p.wall_s
@@ -218,7 +245,7 @@ fn run_sweep(scene: &Path, text: &str, out: &Path) -> Result<bool> {
         "model", "spacing_m", "dt_s", "wall_s", "peak_MiB", "onset_s", "onsetErr/T", "speedErr"
     );
     for r in &rows {
-        let p = &r.point;
+        let p = r;
         println!(
             "{:<9} {:>10.3e} {:>10.3e} {:>9.1} {:>9.0} {:>9.5} {:>11.4} {:>9.4}",
             format!("{:?}", p.model),

@@ -77,30 +77,28 @@ pub fn case(text: &str) -> Result<Case> {
     })
 }
 
+/// A model's tip records as harness rows (both crates' `TipRecord`s have the same fields).
+macro_rules! tip_rows {
+    ($records:expr) => {
+        $records
+            .iter()
+            .map(|r| TipRow {
+                t: r.t,
+                tip_right: r.tip_right,
+                tip_left: r.tip_left,
+                cz_tip_right: r.cz_tip_right,
+                cz_tip_left: r.cz_tip_left,
+            })
+            .collect()
+    };
+}
+
 /// Tip rows of an FE run.
 pub fn fem_tips(out: &fem::RunOutput) -> Vec<TipRow> {
-    out.tips
-        .iter()
-        .map(|r| TipRow {
-            t: r.t,
-            tip_right: r.tip_right,
-            tip_left: r.tip_left,
-            cz_tip_right: r.cz_tip_right,
-            cz_tip_left: r.cz_tip_left,
-        })
-        .collect()
+    tip_rows!(out.tips)
 }
 
 /// Tip rows of a spectral run.
 pub fn spectral_tips(out: &spectral::RunOutput) -> Vec<TipRow> {
-    out.tips
-        .iter()
-        .map(|r| TipRow {
-            t: r.t,
-            tip_right: r.tip_right,
-            tip_left: r.tip_left,
-            cz_tip_right: r.cz_tip_right,
-            cz_tip_left: r.cz_tip_left,
-        })
-        .collect()
+    tip_rows!(out.tips)
 }

@@ -201,18 +201,9 @@ pub fn space_time(path: &Path, labels: Labels, field: &Field, scale: &Scale) -> 
     let root = BitMapBackend::new(path, SIZE).into_drawing_area();
     root.fill(&WHITE)?;
     let (main, bar) = root.split_horizontally(SIZE.0 - 130);
-    let half = |v: &[f64], i: usize| {
-        let (lo, hi) = (i.saturating_sub(1), (i + 1).min(v.len() - 1));
-        0.5 * (v[hi] - v[lo]) / (hi - lo) as f64
-    };
-    let (x0, x1) = (
-        field.x[0] - half(&field.x, 0),
-        field.x[nx - 1] + half(&field.x, nx - 1),
-    );
-    let (t0, t1) = (
-        field.t[0] - half(&field.t, 0),
-        field.t[nt - 1] + half(&field.t, nt - 1),
-    );
+    let (xe, te) = (cell_edges(&field.x), cell_edges(&field.t));
+    let (x0, x1) = (xe[0].0, xe[nx - 1].1);
+    let (t0, t1) = (te[0].0, te[nt - 1].1);
     let mut chart = ChartBuilder::on(&main)
         .caption(labels.title, (FONT, 26))
         .margin(15)
@@ -228,16 +219,41 @@ pub fn space_time(path: &Path, labels: Labels, field: &Field, scale: &Scale) -> 
         .axis_desc_style((FONT, 20))
         .draw()?;
     let cells = field.values.iter().enumerate().flat_map(|(it, row)| {
+        let (te, xe) = (&te, &xe);
         row.iter().enumerate().map(move |(ix, &v)| {
-            let (hx, ht) = (half(&field.x, ix), half(&field.t, it));
-            let (x, t) = (field.x[ix], field.t[it]);
-            Rectangle::new([(x - hx, t - ht), (x + hx, t + ht)], colour(v, scale).filled())
+            Rectangle::new(
+                [(xe[ix].0, te[it].0), (xe[ix].1, te[it].1)],
+                colour(v, scale).filled(),
+            )
         })
     });
     chart.draw_series(cells)?;
     draw_colour_bar(&bar, scale)?;
     root.present()
         .with_context(|| format!("writing {}", path.display()))
+}
+
+/// Cell extents around sample positions `v` (increasing): each cell reaches halfway to its
+/// neighbours, but never more than 0.75 × the median spacing on either side, so a gap in the
+/// samples (the pre-crack, where no interface point exists) stays empty instead of being
+/// covered by the cells at its edges.
+fn cell_edges(v: &[f64]) -> Vec<(f64, f64)> {
+    let mut d: Vec<f64> = v.windows(2).map(|w| w[1] - w[0]).collect();
+    d.sort_by(f64::total_cmp);
+    let cap = 0.75 * d.get(d.len() / 2).copied().unwrap_or(1.0);
+    let n = v.len();
+    (0..n)
+        .map(|i| {
+            let left = 0.5 * if i > 0 { v[i] - v[i - 1] } else { v[1] - v[0] };
+            let right = 0.5
+                * if i + 1 < n {
+                    v[i + 1] - v[i]
+                } else {
+                    v[i] - v[i - 1]
+                };
+            (v[i] - left.min(cap), v[i] + right.min(cap))
+        })
+        .collect()
 }
 
 fn draw_colour_bar(area: &DrawingArea<BitMapBackend, plotters::coord::Shift>, s: &Scale) -> Result<()> {
@@ -351,5 +367,15 @@ mod tests {
             )
             .is_err()
         );
+    }
+
+    #[test]
+    fn cells_touch_their_neighbours_but_do_not_cover_a_gap() {
+        let e = cell_edges(&[0.0, 1.0, 2.0, 10.0, 11.0]);
+        assert_eq!(e[0], (-0.5, 0.5));
+        assert_eq!(e[1], (0.5, 1.5));
+        assert_eq!(e[2], (1.5, 2.75));
+        assert_eq!(e[3], (9.25, 10.5));
+        assert_eq!(e[4], (10.5, 11.5));
     }
 }

@@ -27,6 +27,16 @@ pub enum Model {
     Spectral,
 }
 
+impl Model {
+    /// Lower-case name, as on the command line and in file names.
+    pub fn tag(self) -> &'static str {
+        match self {
+            Model::Fem => "fem",
+            Model::Spectral => "spectral",
+        }
+    }
+}
+
 /// One measured point: a row of `sweep.csv` before the error columns are filled.
 #[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 pub struct Point {
@@ -76,8 +86,9 @@ fn spectral_length(text: &str) -> Result<f64> {
         .ok_or_else(|| anyhow!("spectral.length: missing; the sweep needs the periodic length [m]"))
 }
 
-/// Runs one point in this process (the child side of the sweep).
-pub fn run_point(text: &str, model: Model, nominal: f64) -> Result<Point> {
+/// Runs one point in this process (the child side of the sweep) and writes its tip history to
+/// `<dir>/tips_<model>_<nominal h in mm>mm.csv` (header `t,tip_right,tip_left,cz_tip_right,cz_tip_left`).
+pub fn run_point(text: &str, model: Model, nominal: f64, dir: &std::path::Path) -> Result<Point> {
     let case = models::case(text)?;
     let h = fem_size(case.half_length, nominal);
     let text = with_overrides(text, &[("fem.element_size", Some(Value::Float(h)))])?;
@@ -106,6 +117,9 @@ pub fn run_point(text: &str, model: Model, nominal: f64) -> Result<Point> {
         }
     };
     let wall_s = start.elapsed().as_secs_f64();
+    std::fs::create_dir_all(dir)?;
+    let name = format!("tips_{}_{}mm.csv", model.tag(), nominal * 1e3);
+    crate::output::write_rows(&dir.join(name), &tips)?;
     let l = Series::half_length(&tips);
     Ok(Point {
         model,
@@ -120,11 +134,25 @@ pub fn run_point(text: &str, model: Model, nominal: f64) -> Result<Point> {
 }
 
 /// A `sweep.csv` row: a point with its errors against the finest point of the same model.
+/// (Flat fields: the csv crate cannot serialise a flattened struct.)
 #[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 pub struct SweepRow {
-    /// The measured point.
-    #[serde(flatten)]
-    pub point: Point,
+    /// Model.
+    pub model: Model,
+    /// Nominal FE element size of the point [m].
+    pub nominal_size: f64,
+    /// Actual grid spacing: FE element size or spectral Δx [m].
+    pub spacing: f64,
+    /// Time step [s].
+    pub time_step: f64,
+    /// Wall time of the run [s].
+    pub wall_s: f64,
+    /// Peak resident memory of the process [bytes] (Linux VmHWM).
+    pub peak_memory_bytes: f64,
+    /// Onset time [s].
+    pub onset: f64,
+    /// Mean tip speed between 1.2a and 1.9a [m/s].
+    pub mean_speed: f64,
     /// |onset − onset_finest| / T [-].
     pub onset_error_over_t: f64,
     /// |v − v_finest| / v_finest [-].
@@ -142,12 +170,104 @@ pub fn with_errors(points: &[Point], duration: f64) -> Vec<SweepRow> {
                 .min_by(|a, b| a.spacing.total_cmp(&b.spacing))
                 .expect("invariant: p itself is in the list");
             SweepRow {
-                point: *p,
+                model: p.model,
+                nominal_size: p.nominal_size,
+                spacing: p.spacing,
+                time_step: p.time_step,
+                wall_s: p.wall_s,
+                peak_memory_bytes: p.peak_memory_bytes,
+                onset: p.onset,
+                mean_speed: p.mean_speed,
                 onset_error_over_t: (p.onset - finest.onset).abs() / duration,
                 speed_error_rel: (p.mean_speed - finest.mean_speed).abs() / finest.mean_speed,
             }
         })
         .collect()
+}
+
+/// Runs every sweep point as a child `compare sweep-point` process of the executable `exe`,
+/// coarse to fine, FE then spectral; `on_point` sees each point as it arrives.
+pub fn run_children(
+    exe: &std::path::Path,
+    scene: &std::path::Path,
+    dir: &std::path::Path,
+    on_point: &mut dyn FnMut(&Point),
+) -> Result<Vec<Point>> {
+    let mut points = Vec::new();
+    for model in [Model::Fem, Model::Spectral] {
+        for h in NOMINAL_SIZES {
+            let tag = model.tag();
+            let out = std::process::Command::new(exe)
+                .args(["sweep-point", "--model", tag, "--size", &h.to_string(), "--scene"])
+                .arg(scene)
+                .arg("--out")
+                .arg(dir)
+                .stderr(std::process::Stdio::inherit())
+                .output()
+                .with_context(|| format!("starting {}", exe.display()))?;
+            if !out.status.success() {
+                return Err(anyhow!("sweep point {tag} h = {h} m failed ({})", out.status));
+            }
+            let mut rd = csv::Reader::from_reader(out.stdout.as_slice());
+            let p: Point = rd
+                .deserialize()
+                .next()
+                .ok_or_else(|| anyhow!("sweep point {tag} h = {h} m printed no result"))??;
+            on_point(&p);
+            points.push(p);
+        }
+    }
+    Ok(points)
+}
+
+/// Prints one point as CSV (header + row) on stdout: the child's answer to its parent.
+pub fn print_point(p: &Point) -> Result<()> {
+    let mut w = csv::Writer::from_writer(std::io::stdout());
+    w.serialize(p)?;
+    w.flush()?;
+    Ok(())
+}
+
+/// Writes `sweep.csv` and `sweep_error_vs_wall_time.png` (log10–log10) into `dir`.
+pub fn write_results(dir: &std::path::Path, rows: &[SweepRow]) -> Result<Vec<std::path::PathBuf>> {
+    use crate::plot::{Curve, Dash, Labels, PALETTE, line_chart};
+    std::fs::create_dir_all(dir)?;
+    let csv_path = crate::output::write_rows(&dir.join("sweep.csv"), rows)?;
+    let mut curves = Vec::new();
+    for (i, (model, name)) in [(Model::Fem, "FE"), (Model::Spectral, "spectral")]
+        .into_iter()
+        .enumerate()
+    {
+        let pick = |f: fn(&SweepRow) -> f64| -> Vec<(f64, f64)> {
+            rows.iter()
+                .filter(|r| r.model == model && f(r) > 0.0)
+                .map(|r| (r.wall_s.log10(), f(r).log10()))
+                .collect()
+        };
+        let onset = pick(|r| r.onset_error_over_t);
+        let speed = pick(|r| r.speed_error_rel);
+        let color = PALETTE[i];
+        curves.push(Curve {
+            label: format!("{name}: onset error / T"),
+            points: onset,
+            color,
+            dash: Dash::Solid,
+        });
+        curves.push(Curve {
+            label: format!("{name}: mean-speed rel. error"),
+            points: speed,
+            color,
+            dash: Dash::Dashed,
+        });
+    }
+    let png = dir.join("sweep_error_vs_wall_time.png");
+    let labels = Labels {
+        title: "Error against the finest run vs cost",
+        x: "log10(wall time [s])",
+        y: "log10(error [-])",
+    };
+    line_chart(&png, labels, &curves, &[])?;
+    Ok(vec![csv_path, png])
 }
 
 #[cfg(test)]
@@ -189,89 +309,32 @@ mod tests {
         assert_eq!(rows[1].onset_error_over_t, 0.0);
         assert_eq!(rows[2].speed_error_rel, 0.0);
     }
-}
 
-/// Runs every sweep point as a child `compare sweep-point` process of the executable `exe`,
-/// coarse to fine, FE then spectral; `on_point` sees each point as it arrives.
-pub fn run_children(
-    exe: &std::path::Path,
-    scene: &std::path::Path,
-    on_point: &mut dyn FnMut(&Point),
-) -> Result<Vec<Point>> {
-    let mut points = Vec::new();
-    for model in [Model::Fem, Model::Spectral] {
-        for h in NOMINAL_SIZES {
-            let tag = match model {
-                Model::Fem => "fem",
-                Model::Spectral => "spectral",
-            };
-            let out = std::process::Command::new(exe)
-                .args(["sweep-point", "--model", tag, "--size", &h.to_string(), "--scene"])
-                .arg(scene)
-                .stderr(std::process::Stdio::inherit())
-                .output()
-                .with_context(|| format!("starting {}", exe.display()))?;
-            if !out.status.success() {
-                return Err(anyhow!("sweep point {tag} h = {h} m failed ({})", out.status));
-            }
-            let mut rd = csv::Reader::from_reader(out.stdout.as_slice());
-            let p: Point = rd
-                .deserialize()
-                .next()
-                .ok_or_else(|| anyhow!("sweep point {tag} h = {h} m printed no result"))??;
-            on_point(&p);
-            points.push(p);
-        }
-    }
-    Ok(points)
-}
-
-/// Prints one point as CSV (header + row) on stdout: the child's answer to its parent.
-pub fn print_point(p: &Point) -> Result<()> {
-    let mut w = csv::Writer::from_writer(std::io::stdout());
-    w.serialize(p)?;
-    w.flush()?;
-    Ok(())
-}
-
-/// Writes `sweep.csv` and `sweep_error_vs_wall_time.png` (log10–log10) into `dir`.
-pub fn write_results(dir: &std::path::Path, rows: &[SweepRow]) -> Result<Vec<std::path::PathBuf>> {
-    use crate::plot::{Curve, Dash, Labels, PALETTE, line_chart};
-    std::fs::create_dir_all(dir)?;
-    let csv_path = crate::output::write_rows(&dir.join("sweep.csv"), rows)?;
-    let mut curves = Vec::new();
-    for (i, (model, name)) in [(Model::Fem, "FE"), (Model::Spectral, "spectral")]
-        .into_iter()
-        .enumerate()
-    {
-        let pick = |f: fn(&SweepRow) -> f64| -> Vec<(f64, f64)> {
-            rows.iter()
-                .filter(|r| r.point.model == model && f(r) > 0.0)
-                .map(|r| (r.point.wall_s.log10(), f(r).log10()))
-                .collect()
+    #[test]
+    fn results_are_written_as_csv_and_png() {
+        let p = |model, spacing, onset| Point {
+            model,
+            nominal_size: spacing,
+            spacing,
+            time_step: 1e-6,
+            wall_s: spacing * 1e4,
+            peak_memory_bytes: 1e6,
+            onset,
+            mean_speed: 120.0 + onset,
         };
-        let onset = pick(|r| r.onset_error_over_t);
-        let speed = pick(|r| r.speed_error_rel);
-        let color = PALETTE[i];
-        curves.push(Curve {
-            label: format!("{name}: onset error / T"),
-            points: onset,
-            color,
-            dash: Dash::Solid,
-        });
-        curves.push(Curve {
-            label: format!("{name}: mean-speed rel. error"),
-            points: speed,
-            color,
-            dash: Dash::Dashed,
-        });
+        let pts = [
+            p(Model::Fem, 2e-3, 0.012),
+            p(Model::Fem, 1e-3, 0.011),
+            p(Model::Spectral, 1e-3, 0.01),
+        ];
+        let dir = std::env::temp_dir().join(format!("compare-sweep-test-{}", std::process::id()));
+        let files = write_results(&dir, &with_errors(&pts, 0.02)).unwrap();
+        let text = std::fs::read_to_string(&files[0]).unwrap();
+        assert!(
+            text.starts_with("model,nominal_size,spacing,time_step,wall_s,"),
+            "{text}"
+        );
+        assert_eq!(text.lines().count(), 4);
+        assert!(std::fs::metadata(&files[1]).unwrap().len() > 1000);
     }
-    let png = dir.join("sweep_error_vs_wall_time.png");
-    let labels = Labels {
-        title: "Error against the finest run vs cost",
-        x: "log10(wall time [s])",
-        y: "log10(error [-])",
-    };
-    line_chart(&png, labels, &curves, &[])?;
-    Ok(vec![csv_path, png])
 }

@@ -17,50 +17,23 @@ pub fn scene_text(name: &str) -> String {
 }
 
 /// Returns `text` with dotted keys (`"fem.eps_n"`) set to new values; a `None` value removes the key.
-/// Intermediate tables are created when missing.
+/// Intermediate tables are created when missing. (The harness's own edit, so tests vary scenes
+/// exactly the way `compare` does.)
 pub fn with_overrides(text: &str, overrides: &[(&str, Option<toml::Value>)]) -> String {
-    let mut table: toml::Table = text.parse().expect("invariant: scene files are valid TOML");
-    for (key, value) in overrides {
-        let mut parts: Vec<&str> = key.split('.').collect();
-        let last = parts.pop().expect("invariant: non-empty key");
-        let mut t = &mut table;
-        for p in parts {
-            t = t
-                .entry(p)
-                .or_insert_with(|| toml::Value::Table(toml::Table::new()))
-                .as_table_mut()
-                .unwrap_or_else(|| panic!("{key}: {p} is not a table"));
-        }
-        match value {
-            Some(v) => {
-                t.insert(last.to_string(), v.clone());
-            }
-            None => {
-                t.remove(last);
-            }
-        }
-    }
-    toml::to_string(&table).expect("invariant: a TOML table serialises")
+    compare::scene::with_overrides(text, overrides).unwrap_or_else(|e| panic!("scene override: {e:#}"))
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn overrides_set_and_remove_nested_keys() {
-        let text = "[a]\nx = 1.0\ny = 2\n";
-        let out = with_overrides(
-            text,
-            &[
-                ("a.x", Some(toml::Value::Float(3.5))),
-                ("a.y", None),
-                ("b.z", Some(toml::Value::Integer(4))),
-            ],
-        );
-        let t: toml::Table = out.parse().unwrap();
-        assert_eq!(t["a"]["x"].as_float(), Some(3.5));
-        assert!(t["a"].get("y").is_none());
-        assert_eq!(t["b"]["z"].as_integer(), Some(4));
-    }
+/// Worst energy-balance residual of an FE run relative to the boundary work, max over samples of
+/// |residual| / W_ext(t) once W_ext exceeds 0.1 % of its final value (before that the ratio is
+/// 0/0 noise). Returns (worst ratio, final W_ext [J/m]).
+#[cfg(feature = "fem")]
+pub fn worst_energy_residual(out: &fem::RunOutput) -> (f64, f64) {
+    let w_final = out.energy.last().map_or(0.0, |e| e.boundary_work);
+    let worst = out
+        .energy
+        .iter()
+        .filter(|e| e.boundary_work > 1e-3 * w_final)
+        .map(|e| e.residual.abs() / e.boundary_work)
+        .fold(0.0f64, f64::max);
+    (worst, w_final)
 }

@@ -88,13 +88,7 @@ fn check_speed_and_energy(scene: &fem::Scene, out: &fem::RunOutput) {
         assert!(vmax <= MAX_SPEED_OVER_CR * cr);
         assert!(vpeak >= MIN_PEAK_SPEED_OVER_CR * cr);
     }
-    let w_final = out.energy.last().unwrap().boundary_work;
-    let worst = out
-        .energy
-        .iter()
-        .filter(|e| e.boundary_work > 1e-3 * w_final)
-        .map(|e| e.residual.abs() / e.boundary_work)
-        .fold(0.0f64, f64::max);
+    let (worst, w_final) = validation::worst_energy_residual(out);
     println!(
         "energy residual: worst |residual| / W_ext = {worst:.2e} (tol {TOL_BALANCE_REL}); W_ext(T) = {w_final:.4} J/m"
     );

@@ -42,17 +42,11 @@ fn check_sane(label: &str, out: &fem::RunOutput) {
         .iter()
         .all(|r| r.tip_right.is_finite() && r.tip_left.is_finite());
     assert!(finite_energy && finite_tips, "{label}: non-finite records");
-    let w_final = out.energy.last().expect("records").boundary_work;
+    let (worst, w_final) = validation::worst_energy_residual(out);
     assert!(
         w_final > 0.0,
         "{label}: the boundary must do work, W_ext = {w_final}"
     );
-    let worst = out
-        .energy
-        .iter()
-        .filter(|e| e.boundary_work > 1e-3 * w_final)
-        .map(|e| e.residual.abs() / e.boundary_work)
-        .fold(0.0, f64::max);
     println!(
         "{label}: worst |residual|/W_ext = {worst:.2e} (tol {TOL_BALANCE_REL}), W_ext(T) = {w_final:.3e} J/m"
     );
