@@ -125,7 +125,7 @@ struct RawSpectral {
 }
 
 /// Default relative accuracy of the sum-of-exponentials kernel fit (issue 6) [-].
-pub const DEFAULT_FAST_TOLERANCE: f64 = 1e-6;
+pub const DEFAULT_FAST_TOLERANCE: f64 = 1e-5;
 
 /// A validated scene: the shared problem plus the spectral discretisation. SI units.
 #[derive(Debug, Clone, PartialEq)]
