@@ -37,7 +37,8 @@ impl Model {
     }
 }
 
-/// One measured point: a row of `sweep.csv` before the error columns are filled.
+/// One measured point, a row of `sweep.csv`; the error columns are NaN until [`with_errors`]
+/// fills them.
 #[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 pub struct Point {
     /// Model.
@@ -56,6 +57,10 @@ pub struct Point {
     pub onset: f64,
     /// Mean tip speed between 1.2a and 1.9a [m/s].
     pub mean_speed: f64,
+    /// |onset − onset_finest| / T [-].
+    pub onset_error_over_t: f64,
+    /// |v − v_finest| / v_finest [-].
+    pub speed_error_rel: f64,
 }
 
 /// Actual FE element size [m] for a nominal one: a/round(a/h).
@@ -130,37 +135,13 @@ pub fn run_point(text: &str, model: Model, nominal: f64, dir: &std::path::Path) 
         peak_memory_bytes: peak_memory_bytes(),
         onset: onset(&l, case.half_length).unwrap_or(f64::NAN),
         mean_speed: mean_speed(&l, case.half_length).unwrap_or(f64::NAN),
+        onset_error_over_t: f64::NAN,
+        speed_error_rel: f64::NAN,
     })
 }
 
-/// A `sweep.csv` row: a point with its errors against the finest point of the same model.
-/// (Flat fields: the csv crate cannot serialise a flattened struct.)
-#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
-pub struct SweepRow {
-    /// Model.
-    pub model: Model,
-    /// Nominal FE element size of the point [m].
-    pub nominal_size: f64,
-    /// Actual grid spacing: FE element size or spectral Δx [m].
-    pub spacing: f64,
-    /// Time step [s].
-    pub time_step: f64,
-    /// Wall time of the run [s].
-    pub wall_s: f64,
-    /// Peak resident memory of the process [bytes] (Linux VmHWM).
-    pub peak_memory_bytes: f64,
-    /// Onset time [s].
-    pub onset: f64,
-    /// Mean tip speed between 1.2a and 1.9a [m/s].
-    pub mean_speed: f64,
-    /// |onset − onset_finest| / T [-].
-    pub onset_error_over_t: f64,
-    /// |v − v_finest| / v_finest [-].
-    pub speed_error_rel: f64,
-}
-
 /// Errors of every point against the finest point of its model.
-pub fn with_errors(points: &[Point], duration: f64) -> Vec<SweepRow> {
+pub fn with_errors(points: &[Point], duration: f64) -> Vec<Point> {
     points
         .iter()
         .map(|p| {
@@ -169,17 +150,10 @@ pub fn with_errors(points: &[Point], duration: f64) -> Vec<SweepRow> {
                 .filter(|q| q.model == p.model)
                 .min_by(|a, b| a.spacing.total_cmp(&b.spacing))
                 .expect("invariant: p itself is in the list");
-            SweepRow {
-                model: p.model,
-                nominal_size: p.nominal_size,
-                spacing: p.spacing,
-                time_step: p.time_step,
-                wall_s: p.wall_s,
-                peak_memory_bytes: p.peak_memory_bytes,
-                onset: p.onset,
-                mean_speed: p.mean_speed,
+            Point {
                 onset_error_over_t: (p.onset - finest.onset).abs() / duration,
                 speed_error_rel: (p.mean_speed - finest.mean_speed).abs() / finest.mean_speed,
+                ..*p
             }
         })
         .collect()
@@ -229,7 +203,7 @@ pub fn print_point(p: &Point) -> Result<()> {
 }
 
 /// Writes `sweep.csv` and `sweep_error_vs_wall_time.png` (log10–log10) into `dir`.
-pub fn write_results(dir: &std::path::Path, rows: &[SweepRow]) -> Result<Vec<std::path::PathBuf>> {
+pub fn write_results(dir: &std::path::Path, rows: &[Point]) -> Result<Vec<std::path::PathBuf>> {
     use crate::plot::{Curve, Dash, Labels, PALETTE, line_chart};
     std::fs::create_dir_all(dir)?;
     let csv_path = crate::output::write_rows(&dir.join("sweep.csv"), rows)?;
@@ -238,7 +212,7 @@ pub fn write_results(dir: &std::path::Path, rows: &[SweepRow]) -> Result<Vec<std
         .into_iter()
         .enumerate()
     {
-        let pick = |f: fn(&SweepRow) -> f64| -> Vec<(f64, f64)> {
+        let pick = |f: fn(&Point) -> f64| -> Vec<(f64, f64)> {
             rows.iter()
                 .filter(|r| r.model == model && f(r) > 0.0)
                 .map(|r| (r.wall_s.log10(), f(r).log10()))
@@ -295,6 +269,8 @@ mod tests {
             peak_memory_bytes: 1.0,
             onset,
             mean_speed,
+            onset_error_over_t: f64::NAN,
+            speed_error_rel: f64::NAN,
         };
         let rows = with_errors(
             &[
@@ -321,6 +297,8 @@ mod tests {
             peak_memory_bytes: 1e6,
             onset,
             mean_speed: 120.0 + onset,
+            onset_error_over_t: f64::NAN,
+            speed_error_rel: f64::NAN,
         };
         let pts = [
             p(Model::Fem, 2e-3, 0.012),
