@@ -135,16 +135,20 @@ fn window_mean(
     v.iter().sum::<f64>() / v.len() as f64
 }
 
+/// Time [s] of the first cohesive insertion anywhere on the interface (the onset of damage).
+fn first_insertion(out: &fem::RunOutput) -> f64 {
+    out.arrivals
+        .iter()
+        .map(|a| a.insertion_time)
+        .filter(|t| t.is_finite())
+        .fold(f64::INFINITY, f64::min)
+}
+
 /// Claim 7 mean tractions on one μ = 0.3 run: (mean normal traction before onset, mean
 /// tangential traction while slipping) [Pa], with the slip time [s].
 fn mean_tractions(scene: &fem::Scene, out: &fem::RunOutput) -> (f64, f64, f64) {
     let big_t = scene.duration();
-    let onset = out
-        .arrivals
-        .iter()
-        .map(|a| a.insertion_time)
-        .filter(|t| t.is_finite())
-        .fold(f64::INFINITY, f64::min);
+    let onset = first_insertion(out);
     println!("onset of insertion at t/T = {:.3}", onset / big_t);
     // mean normal traction once the compression is held (t ≥ 0.2 T, after its 0.1 T ramp) until onset
     let tn = window_mean(out, 0.2 * big_t, onset, |c| c.mean_normal_traction);
@@ -214,12 +218,7 @@ fn center_crack_mean_tractions() {
 #[test]
 fn center_crack_without_friction() {
     let (scene, out) = run(0.0);
-    let onset = out
-        .arrivals
-        .iter()
-        .map(|a| a.insertion_time)
-        .filter(|t| t.is_finite())
-        .fold(f64::INFINITY, f64::min);
+    let onset = first_insertion(&out);
     println!(
         "mu = 0: onset of insertion at t/T = {:.3}",
         onset / scene.duration()
