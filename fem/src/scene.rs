@@ -3,10 +3,13 @@
 
 mod boundary;
 mod fem;
+mod interface_spec;
 mod raw;
 
 pub use boundary::{BoundaryComponent, BoundaryKind, BoundarySpec};
 pub use fem::{DampingSet, FemSpec, InsertionRule, ModelKind};
+pub(crate) use interface_spec::zone_of;
+pub use interface_spec::{ContactSurface, InterfaceZone};
 
 use crate::error::SceneError;
 use crate::law::cohesive::LinearCohesive;
@@ -238,6 +241,11 @@ fn validate(raw: RawScene) -> Result<Scene, SceneError> {
         fem,
         time_step: 0.0,
     };
+    if !scene.fem.interface_zones.is_empty() && scene.interface.is_none() {
+        return Err(SceneError::Geometry(
+            "fem.interface_zones needs an [interface] section (the law outside the zones)".to_string(),
+        ));
+    }
     if scene.has_penalty() && scene.fem.eps_n <= 0.0 {
         return Err(SceneError::OutOfRange {
             field: "fem.eps_n",

@@ -7,8 +7,9 @@ use crate::mesh::interfaces::{FacetKind, InterfaceRow};
 use crate::mesh::structured::{Grid, GridSpec};
 use crate::model::bulk::{self, Stiffness};
 use crate::model::loading;
+use crate::model::mapped::{MappedStiffness, Trapezoid};
 use crate::model::state::{ContactPart, EnergyTotals, Facets, Model, State, Workspace};
-use crate::scene::{ModelKind, Scene};
+use crate::scene::{ContactSurface, ModelKind, Scene, zone_of};
 use nalgebra::Vector2;
 
 /// Builds the model, its initial state and the workspace from a validated scene.
@@ -55,7 +56,20 @@ pub fn build_with_row_map(
         mass,
         dt: scene.time_step(),
         cd: scene.wave_speeds().cd,
-        law: scene.interface,
+        laws: scene.interface.map_or(Vec::new(), |l| {
+            std::iter::once(l)
+                .chain(f.interface_zones.iter().map(|z| z.law))
+                .collect()
+        }),
+        facet_law: facet_centres(&iface, &grid)
+            .map(|x| zone_of(&f.interface_zones, x) as u8)
+            .collect(),
+        facet_detect: facet_centres(&iface, &grid)
+            .map(|x| match f.contact_surface {
+                ContactSurface::All => true,
+                ContactSurface::Zones => zone_of(&f.interface_zones, x) > 0,
+            })
+            .collect(),
         closing: match f.model {
             ModelKind::Hybrid => ClosingTreatment::Hybrid,
             ModelKind::Standard => ClosingTreatment::Standard { eps_n: f.eps_n },
@@ -84,6 +98,14 @@ pub fn build_with_row_map(
     let state = initial_state(&model);
     let ws = workspace(&model);
     Ok((model, state, ws))
+}
+
+/// Reference x [m] of each facet midpoint of the interface row (none without a row).
+fn facet_centres<'a>(iface: &'a Option<InterfaceRow>, grid: &'a Grid) -> impl Iterator<Item = f64> + 'a {
+    iface.iter().flat_map(move |row| {
+        (0..row.num_facets())
+            .map(move |c| 0.5 * (grid.x0[row.minus[c] as usize].x + grid.x0[row.minus[c + 1] as usize].x))
+    })
 }
 
 /// The structured grid of the scene; the y = 0 row is twinned when a pre-crack or an interface exists.
@@ -139,7 +161,8 @@ fn workspace(model: &Model) -> Workspace {
     }
 }
 
-/// One shared K_e when every element is a translate of element 0, else one per element.
+/// One shared K_e when every element is a translate of element 0; on-the-fly forces when every
+/// element has vertical sides and the same width (mapped meshes); else one K_e per element.
 fn stiffness(grid: &Grid, d: &[[f64; 3]; 3]) -> Result<Stiffness, BuildError> {
     let c0 = grid.element_coords(0);
     let tol = 1e-9 * (c0[2] - c0[0]).norm();
@@ -152,7 +175,26 @@ fn stiffness(grid: &Grid, d: &[[f64; 3]; 3]) -> Result<Stiffness, BuildError> {
             .map_err(|det_j| BuildError::InvertedElement { element: e, det_j })
     };
     if same {
-        Ok(Stiffness::Shared(Box::new(k_of(0)?)))
+        return Ok(Stiffness::Shared(Box::new(k_of(0)?)));
+    }
+    let width = c0[1].x - c0[0].x;
+    let shapes: Option<Vec<Trapezoid>> = (0..grid.num_elements())
+        .map(|e| Trapezoid::of(&grid.element_coords(e), width))
+        .collect();
+    if let Some(shapes) = shapes {
+        // det J = (h/2) y_η > 0 at every point iff both vertical sides have positive height
+        if let Some(e) = shapes.iter().position(|s| s.v_left <= 0.0 || s.v_right <= 0.0) {
+            let s = shapes[e];
+            return Err(BuildError::InvertedElement {
+                element: e,
+                det_j: 0.5 * width * s.v_left.min(s.v_right),
+            });
+        }
+        Ok(Stiffness::Mapped(Box::new(MappedStiffness {
+            half_width: 0.5 * width,
+            d: *d,
+            shapes,
+        })))
     } else {
         (0..grid.num_elements())
             .map(k_of)
@@ -220,7 +262,7 @@ fn initial_state(model: &Model) -> State {
             let cap = 2 * row.num_interface_facets();
             let mut surface = DetectionSurface::with_capacity(n, cap);
             for c in 0..row.num_facets() {
-                if row.kind[c] == FacetKind::PreCrack {
+                if row.kind[c] == FacetKind::PreCrack && model.facet_detect[c] {
                     add_facet_faces(&mut surface, row, c);
                 }
             }
@@ -278,8 +320,14 @@ mod tests {
         let scene = tiny_with("interface_polyline = [[0.01, 0.0], [0.015, 1.5e-3], [0.02, 0.0]]");
         assert!((scene.fem.interface_y(0.0125) - 0.75e-3).abs() < 1e-15);
         assert_eq!(scene.fem.interface_y(0.0), 0.0);
-        // rows above the bump are compressed: (10 mm − 1.5 mm)/10 rows
-        assert!((scene.fem.min_edge() - 0.85e-3).abs() < 1e-12);
+        // rows above the bump are compressed to (10 mm − 1.5 mm)/10 rows = 0.85 mm, and the row
+        // next to the peak rises with slope 1.5/5 = 0.3: altitude 0.85 mm / √(1 + 0.3²)
+        let expect = 0.85e-3 / (1.0f64 + 0.09).sqrt();
+        assert!(
+            (scene.fem.min_edge() - expect).abs() < 1e-12,
+            "{}",
+            scene.fem.min_edge()
+        );
         let (model, _, _) = super::build(&scene).unwrap();
         assert!(!crate::probe::shares_stiffness(&model));
         let flat = tiny_with("");

@@ -19,6 +19,8 @@ pub(crate) enum Stiffness {
     Shared(Box<Ke>),
     /// One matrix per element.
     PerElement(Vec<Ke>),
+    /// Vertical-sided elements of a mapped mesh: forces computed on the fly (`model::mapped`).
+    Mapped(Box<crate::model::mapped::MappedStiffness>),
 }
 
 impl Stiffness {
@@ -27,6 +29,7 @@ impl Stiffness {
         match self {
             Stiffness::Shared(k) => k,
             Stiffness::PerElement(v) => &v[e],
+            Stiffness::Mapped(_) => unreachable!("invariant: mapped meshes never read K_e"),
         }
     }
 }
@@ -144,6 +147,7 @@ pub(crate) fn internal_forces(grid: &Grid, k: &Stiffness, u: &[Vector2<f64>], f:
     let stencil = match k {
         Stiffness::Shared(ke) => Some(Stencil::new(ke)),
         Stiffness::PerElement(_) => None,
+        Stiffness::Mapped(m) => return crate::model::mapped::internal_forces(grid, m, u, f),
     };
     f.par_chunks_mut(w).enumerate().for_each(|(layer, fl)| {
         let (below, above) = grid.layer_element_rows(layer);

@@ -39,12 +39,13 @@ pub(crate) fn assemble(
     f: &mut [Vector2<f64>],
     t: f64,
 ) -> f64 {
-    let (Some(row), Some(law)) = (&model.iface, &model.law) else {
+    let Some(row) = &model.iface else {
         return 0.0;
     };
     let mut work = 0.0;
     for k in 0..facets.active.len() {
         let c = facets.active[k] as usize;
+        let law = &model.laws[model.facet_law[c] as usize];
         work += element(model, row, law, facets, c, u, f, t);
     }
     work

@@ -49,15 +49,19 @@ pub(crate) fn check_and_insert(
     step: u64,
     t: f64,
 ) -> usize {
-    let (Some(row), Some(law)) = (&model.iface, &model.law) else {
+    let Some(row) = &model.iface else {
         return 0;
     };
+    if model.laws.is_empty() {
+        return 0;
+    }
     let mut contact = contact;
     let mut count = 0;
     for c in 0..row.num_facets() {
         if row.kind[c] != FacetKind::Cohesive || facets.inserted[c] {
             continue;
         }
+        let law = &model.laws[model.facet_law[c] as usize];
         let tq = facet_tractions(model, row, law, c, u);
         let reach = match model.insertion_rule {
             InsertionRule::Max => tq[0].1.max(tq[1].1) >= law.sigma_c,
@@ -69,7 +73,7 @@ pub(crate) fn check_and_insert(
         insert(model, row, law, facets, c, &tq, u, t);
         facets.column_insert_step[c] = step;
         facets.column_insert_step[c + 1] = step;
-        if let Some(cp) = contact.as_deref_mut() {
+        if let Some(cp) = contact.as_deref_mut().filter(|_| model.facet_detect[c]) {
             add_facet_faces(&mut cp.surface, row, c);
         }
         for i in [c, c + 1] {

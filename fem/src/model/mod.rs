@@ -5,4 +5,5 @@ pub(crate) mod bulk;
 pub mod cohesive;
 pub(crate) mod insertion;
 pub(crate) mod loading;
+pub(crate) mod mapped;
 pub mod state;

@@ -43,7 +43,12 @@ pub struct Model {
     pub(crate) iface: Option<InterfaceRow>,
     /// Gauss gradients of the (+, −) elements of each interface facet (insertion checks).
     pub(crate) facet_gradients: Vec<[GaussGradients; 2]>,
-    pub(crate) law: Option<LinearCohesive>,
+    /// Cohesive laws: 0 = `[interface]`, k = `interface_zones[k − 1]`; empty without an interface.
+    pub(crate) laws: Vec<LinearCohesive>,
+    /// Law index of each facet of the interface row.
+    pub(crate) facet_law: Vec<u8>,
+    /// Whether each facet's faces join Γ_det once free (pre-crack) or inserted (eqs. 10, 16).
+    pub(crate) facet_detect: Vec<bool>,
     pub(crate) closing: ClosingTreatment,
     pub(crate) insertion_rule: InsertionRule,
     pub(crate) damping: DampingSet,

@@ -1,6 +1,7 @@
 //! The `[fem]` section: discretisation, model options, boundary conditions.
 
 use super::boundary::{BoundarySpec, side};
+use super::interface_spec::{ContactSurface, InterfaceZone, sine_polyline, zones_and_surface};
 use super::raw::RawFem;
 use super::{Crack, check};
 use crate::error::SceneError;
@@ -81,6 +82,10 @@ pub struct FemSpec {
     /// The interface node row follows this polyline y(x) [m] (linear between points, y = 0
     /// outside); rows in between are interpolated (paper Section 4 meshes). `None`: flat.
     pub interface_polyline: Option<Vec<[f64; 2]>>,
+    /// Stretches of the interface row with their own cohesive law (outside them: `[interface]`).
+    pub interface_zones: Vec<InterfaceZone>,
+    /// Which faces form the contact detection surface.
+    pub contact_surface: ContactSurface,
     /// Probe points (reference positions [m]); the nearest node is recorded.
     pub probes: Vec<[f64; 2]>,
     /// Side-wise boundary conditions; `None`: Westergaard displacements on the whole boundary.
@@ -158,6 +163,16 @@ pub(crate) fn validate_fem(f: &RawFem, crack: Option<&Crack>, duration: f64) -> 
     let (time_step_safety, eps_n, eps_t) = step_and_penalties(f, duration)?;
     let (damping_factor, max_gap, projection_tolerance) = damping_and_contact(f)?;
     let (upper_offset, boundary) = blocks_and_boundary(f, crack)?;
+    let (interface_zones, contact_surface) = zones_and_surface(f)?;
+    let interface_polyline = match &f.interface_sine {
+        Some(s) => {
+            let center = crack.map_or(0.0, |c| c.center_x);
+            let mut g = RawFem::clone(f);
+            g.interface_polyline = Some(sine_polyline(f, s, center)?);
+            polyline(&g, upper_offset)?
+        }
+        None => polyline(f, upper_offset)?,
+    };
     Ok(FemSpec {
         x_range: f.x_range,
         y_range: f.y_range,
@@ -175,7 +190,9 @@ pub(crate) fn validate_fem(f: &RawFem, crack: Option<&Crack>, duration: f64) -> 
         max_gap,
         projection_tolerance,
         upper_offset,
-        interface_polyline: polyline(f, upper_offset)?,
+        interface_polyline,
+        interface_zones,
+        contact_surface,
         probes: probes(f)?,
         boundary,
     })
@@ -353,7 +370,11 @@ impl FemSpec {
         a[1] + (b[1] - a[1]) * (x - a[0]) / (b[0] - a[0])
     }
 
-    /// Smallest element edge h_min [m]: h, or a compressed row spacing of a mapped mesh.
+    /// Smallest element length h_min [m] of the stable step: h on a flat mesh; on a mapped mesh
+    /// the smallest altitude of the elements next to the mapped row, min(v) / √(1 + s²) with v the
+    /// row spacing of a column and s the slope of the row (the classical CFL length of a sheared
+    /// quad; the element eigenvalue bound gives 0.60 h at the sinusoid's steepest slope s = π/2,
+    /// the altitude 0.54 h, so the altitude is the safe side).
     pub fn min_edge(&self) -> f64 {
         let h = self.element_size;
         if self.interface_polyline.is_none() {
@@ -363,10 +384,15 @@ impl FemSpec {
         let [y0, y1] = self.y_range;
         let (below, above) = ((-y0 / h).round(), (y1 / h).round());
         let n = ((x1 - x0) / h).round() as usize;
-        (0..=n)
+        let spacing = |y: f64| ((y - y0) / below).min((y1 - y) / above);
+        (0..n)
             .map(|i| {
-                let y = self.interface_y(x0 + i as f64 * h);
-                ((y - y0) / below).min((y1 - y) / above)
+                let (ya, yb) = (
+                    self.interface_y(x0 + i as f64 * h),
+                    self.interface_y(x0 + (i + 1) as f64 * h),
+                );
+                let slope = (yb - ya) / h;
+                spacing(ya).min(spacing(yb)) / (1.0 + slope * slope).sqrt()
             })
             .fold(h, f64::min)
     }

@@ -79,14 +79,14 @@ pub(crate) struct RawBoundaryComponent {
     pub ramp_end: f64,
 }
 
-#[derive(Debug, Default, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawSide {
     pub x: Option<RawBoundaryComponent>,
     pub y: Option<RawBoundaryComponent>,
 }
 
-#[derive(Debug, Default, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawBoundary {
     pub bottom: Option<RawSide>,
@@ -95,7 +95,7 @@ pub(crate) struct RawBoundary {
     pub left: Option<RawSide>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawFem {
     pub x_range: [f64; 2],
@@ -116,6 +116,28 @@ pub(crate) struct RawFem {
     pub projection_tolerance: Option<f64>,
     pub upper_offset: Option<f64>,
     pub interface_polyline: Option<Vec<[f64; 2]>>,
+    pub interface_sine: Option<RawSine>,
+    pub interface_zones: Option<Vec<RawZone>>,
+    pub contact_surface: Option<String>,
     pub probes: Option<Vec<[f64; 2]>>,
     pub boundary: Option<RawBoundary>,
+}
+
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawSine {
+    pub amplitude: f64,
+    pub half_period: f64,
+    pub from: f64,
+    pub to: f64,
+}
+
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawZone {
+    pub x_range: [f64; 2],
+    pub sigma_c: f64,
+    pub delta_c: f64,
+    pub beta: f64,
+    pub kappa: f64,
 }

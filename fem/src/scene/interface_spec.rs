@@ -1,0 +1,195 @@
+//! `[fem]` keys that shape the interface row: the sinusoidal path of paper Section 4
+//! (`interface_sine`), stretches with their own cohesive law (`interface_zones`) and which faces
+//! join the contact detection surface (`contact_surface`, paper eqs. (10) and (16)).
+
+use super::check;
+use super::fem::option;
+use super::raw::{RawFem, RawSine, RawZone};
+use crate::error::SceneError;
+use crate::law::cohesive::LinearCohesive;
+
+/// A stretch of the interface row with its own cohesive law (paper Section 4's weak interface).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InterfaceZone {
+    /// Reference x range [m]; a facet belongs to the zone when its midpoint lies inside.
+    pub x_range: [f64; 2],
+    /// Cohesive law of the zone's facets.
+    pub law: LinearCohesive,
+}
+
+/// Which faces form the contact detection surface Γ_det.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ContactSurface {
+    /// Pre-crack faces and both faces of every inserted cohesive element (paper eq. 10; default).
+    All,
+    /// Only both faces of the inserted elements of `interface_zones` (paper eq. 16: Γ_weak⁺ ∪ Γ_weak⁻).
+    Zones,
+}
+
+/// The sinusoidal path y = A sin(π (|x − x_c| − from)/half_period) for from ≤ |x − x_c| ≤ to,
+/// 0 elsewhere, sampled at the node columns (the mapped row is exact at every node).
+pub(crate) fn sine_polyline(f: &RawFem, s: &RawSine, center_x: f64) -> Result<Vec<[f64; 2]>, SceneError> {
+    check(
+        "fem.interface_sine.amplitude",
+        s.amplitude,
+        true,
+        "a finite length [m]",
+    )?;
+    check(
+        "fem.interface_sine.half_period",
+        s.half_period,
+        s.half_period > 0.0,
+        "> 0 m",
+    )?;
+    check("fem.interface_sine.from", s.from, s.from >= 0.0, ">= 0 m")?;
+    check("fem.interface_sine.to", s.to, s.to > s.from, "> from [m]")?;
+    if f.interface_polyline.is_some() {
+        return Err(SceneError::Geometry(
+            "give fem.interface_polyline or fem.interface_sine, not both".to_string(),
+        ));
+    }
+    let h = f.element_size;
+    let n = ((f.x_range[1] - f.x_range[0]) / h).round() as usize;
+    Ok((0..=n)
+        .map(|i| {
+            let x = f.x_range[0] + i as f64 * h;
+            let r = (x - center_x).abs();
+            let y = if (s.from..=s.to).contains(&r) {
+                s.amplitude * (std::f64::consts::PI * (r - s.from) / s.half_period).sin()
+            } else {
+                0.0
+            };
+            [x, y]
+        })
+        .collect())
+}
+
+fn zone(f: &RawFem, z: &RawZone) -> Result<InterfaceZone, SceneError> {
+    let [x0, x1] = z.x_range;
+    check(
+        "fem.interface_zones.x_range",
+        x1 - x0,
+        x0 >= f.x_range[0] && x1 <= f.x_range[1] && x1 > x0,
+        "x_range[0] < x_range[1], inside fem.x_range [m]",
+    )?;
+    check(
+        "fem.interface_zones.sigma_c",
+        z.sigma_c,
+        z.sigma_c > 0.0,
+        "> 0 Pa",
+    )?;
+    check("fem.interface_zones.delta_c", z.delta_c, z.delta_c > 0.0, "> 0 m")?;
+    check("fem.interface_zones.beta", z.beta, z.beta > 0.0, "> 0")?;
+    check("fem.interface_zones.kappa", z.kappa, z.kappa > 0.0, "> 0")?;
+    Ok(InterfaceZone {
+        x_range: z.x_range,
+        law: LinearCohesive {
+            sigma_c: z.sigma_c,
+            delta_c: z.delta_c,
+            beta: z.beta,
+            kappa: z.kappa,
+        },
+    })
+}
+
+/// Validated zones (non-overlapping) and the contact surface choice.
+pub(crate) fn zones_and_surface(f: &RawFem) -> Result<(Vec<InterfaceZone>, ContactSurface), SceneError> {
+    let zones = f
+        .interface_zones
+        .iter()
+        .flatten()
+        .map(|z| zone(f, z))
+        .collect::<Result<Vec<_>, _>>()?;
+    for (k, a) in zones.iter().enumerate() {
+        for b in &zones[k + 1..] {
+            if a.x_range[0] < b.x_range[1] && b.x_range[0] < a.x_range[1] {
+                return Err(SceneError::Geometry(format!(
+                    "fem.interface_zones overlap: {:?} and {:?} m",
+                    a.x_range, b.x_range
+                )));
+            }
+        }
+    }
+    let surface = option(
+        "fem.contact_surface",
+        f.contact_surface.as_ref(),
+        ContactSurface::All,
+        &[("all", ContactSurface::All), ("zones", ContactSurface::Zones)],
+        "\"all\" or \"zones\" (needs fem.interface_zones)",
+    )?;
+    if surface == ContactSurface::Zones && zones.is_empty() {
+        return Err(SceneError::BadOption {
+            field: "fem.contact_surface",
+            value: "zones".to_string(),
+            allowed: "\"zones\" only with fem.interface_zones",
+        });
+    }
+    Ok((zones, surface))
+}
+
+/// Index of the zone containing x [m] (1-based: 0 is the `[interface]` law).
+pub(crate) fn zone_of(zones: &[InterfaceZone], x: f64) -> usize {
+    zones
+        .iter()
+        .position(|z| x >= z.x_range[0] && x <= z.x_range[1])
+        .map_or(0, |k| k + 1)
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::scene::{ContactSurface, Scene};
+
+    fn sinusoid() -> String {
+        std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../scenes/sinusoidal-interface.toml"
+        ))
+        .unwrap()
+    }
+
+    #[test]
+    fn sinusoid_scene_maps_the_row_and_declares_two_weak_zones() {
+        let s = Scene::from_toml_str(&sinusoid()).unwrap();
+        let (a, lambda) = (0.125, 0.0625);
+        for x in [0.140, 0.2, 0.3, -0.2, -0.140] {
+            let y: f64 = 0.5 * lambda * (std::f64::consts::PI * (f64::abs(x) - a) / lambda).sin();
+            assert!((s.fem.interface_y(x) - y).abs() < 1e-12, "x = {x}");
+        }
+        assert_eq!(s.fem.interface_y(0.32), 0.0);
+        assert_eq!(s.fem.interface_y(0.1), 0.0);
+        assert_eq!(s.fem.interface_zones.len(), 2);
+        assert_eq!(s.fem.interface_zones[1].law.sigma_c, 0.04e6);
+        assert_eq!(s.fem.contact_surface, ContactSurface::Zones);
+        // steepest slope π/2 at |x| = a: altitude 1 mm / √(1 + π²/4) = 0.537 mm there; rows
+        // compressed near the crests make the minimum a little smaller (0.51 mm)
+        let alt = 1e-3 / (1.0 + 0.25 * std::f64::consts::PI.powi(2)).sqrt();
+        let h_min = s.fem.min_edge();
+        assert!(h_min <= alt && h_min > 0.9 * alt, "{h_min}");
+    }
+
+    #[test]
+    fn bad_zones_and_surfaces_are_refused() {
+        let overlap = sinusoid().replace("x_range = [0.125, 0.3125]", "x_range = [-0.2, 0.3125]");
+        let e = Scene::from_toml_str(&overlap).unwrap_err().to_string();
+        assert!(e.contains("overlap"), "{e}");
+        let outside = sinusoid().replace("x_range = [0.125, 0.3125]", "x_range = [0.125, 0.5]");
+        let e = Scene::from_toml_str(&outside).unwrap_err().to_string();
+        assert!(e.contains("fem.interface_zones.x_range"), "{e}");
+        let weak = sinusoid().replace("sigma_c = 0.04e6 ", "sigma_c = -1.0 ");
+        let e = Scene::from_toml_str(&weak).unwrap_err().to_string();
+        assert!(e.contains("fem.interface_zones.sigma_c"), "{e}");
+        let no_zones: String = sinusoid()
+            .split("[[fem.interface_zones]]")
+            .next()
+            .unwrap()
+            .to_string();
+        let e = Scene::from_toml_str(&no_zones).unwrap_err().to_string();
+        assert!(e.contains("fem.contact_surface"), "{e}");
+        let both = sinusoid().replace(
+            "x_range = [-0.375, 0.375]",
+            "interface_polyline = [[0.0, 0.0], [0.1, 0.0]]\nx_range = [-0.375, 0.375]",
+        );
+        let e = Scene::from_toml_str(&both).unwrap_err().to_string();
+        assert!(e.contains("not both"), "{e}");
+    }
+}
