@@ -119,6 +119,81 @@ pub struct ProbeRecord {
     pub vy: f64,
 }
 
+/// Residual stress of paper eq. (17) at one sample.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct ResidualStressRecord {
+    /// Time [s].
+    pub t: f64,
+    /// σ̄ = ∫ (σ n)·e_x dA / (x₁ − x₀) over the + facets with midpoint in `residual_stress_x` [Pa].
+    pub residual_stress: f64,
+}
+
+/// Contact (KKT) conditions on the crack faces of the contact surface at one sample.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct KktRecord {
+    /// Time [s].
+    pub t: f64,
+    /// Crack-face nodes: both copies of the nodes of free (pre-crack or inserted) facets of the
+    /// contact surface [-].
+    pub crack_face_nodes: usize,
+    /// Nodes carrying a compressive traction (contact pressure, or the cohesive law's
+    /// compression penalty in the standard model) [-].
+    pub compressive_nodes: usize,
+    /// Nodes carrying a compressive traction while their true distance to the opposing face is
+    /// positive (open) [-].
+    pub violating_nodes: usize,
+    /// violating_nodes / crack_face_nodes [-] (0 without crack faces).
+    pub violating_share: f64,
+    /// Largest compressive traction on a violating node [Pa] (0 if none).
+    pub max_violating_traction: f64,
+    /// Nodes in true contact (distance < 0) without a compressive traction, plus the violating
+    /// ones: where the contact zone and the traction zone differ [-].
+    pub mismatch_nodes: usize,
+    /// Largest tangential slip |(u⁺ − u⁻)·t| of a crack-face twin pair (the two nodes that
+    /// faced each other at t = 0) [m].
+    pub max_slip: f64,
+}
+
+/// Element stresses at a snapshot (averages of the four Gauss points).
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct FieldRecord {
+    /// Snapshot index in `snapshot_times`.
+    pub snapshot: usize,
+    /// Time [s].
+    pub t: f64,
+    /// Reference centroid [m].
+    pub x: f64,
+    /// Reference centroid [m].
+    pub y: f64,
+    /// σ_xx [Pa].
+    pub sxx: f64,
+    /// σ_yy [Pa].
+    pub syy: f64,
+    /// σ_xy [Pa].
+    pub sxy: f64,
+}
+
+/// One node of the upper face of the contact surface at a snapshot (paper Figure 11).
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct ProfileRecord {
+    /// Snapshot index in `snapshot_times`.
+    pub snapshot: usize,
+    /// Time [s].
+    pub t: f64,
+    /// Reference position [m].
+    pub x: f64,
+    /// Reference position [m].
+    pub y: f64,
+    /// σ_yy at the node, extrapolated from the adjacent upper elements [Pa].
+    pub syy: f64,
+    /// The node's facet is free (pre-crack or inserted).
+    pub crack_face: bool,
+    /// True signed distance to the opposing face (> 0 open, < 0 penetrating) [m].
+    pub gap: f64,
+    /// Compressive traction the node carries [Pa] (≥ 0).
+    pub compressive_traction: f64,
+}
+
 /// Everything a run produces.
 #[derive(Debug, Clone, Default)]
 pub struct RunOutput {
@@ -142,6 +217,16 @@ pub struct RunOutput {
     pub arrivals: Vec<ArrivalRecord>,
     /// Probe histories.
     pub probes: Vec<ProbeRecord>,
+    /// Residual stress of eq. (17) per sample (only with `residual_stress_x`).
+    pub residual_stress: Vec<ResidualStressRecord>,
+    /// KKT conditions per sample (only with `kkt_metric`).
+    pub kkt: Vec<KktRecord>,
+    /// Element stresses at the snapshots (only with `snapshot_times`).
+    pub fields: Vec<FieldRecord>,
+    /// Upper-face profiles at the snapshots (only with `snapshot_times`).
+    pub profiles: Vec<ProfileRecord>,
+    /// Times at which the snapshots were taken [s] (first sample at or after each requested time).
+    pub snapshot_times: Vec<f64>,
     /// Wall time in cohesive work (law + insertion) [s].
     pub cohesive_seconds: f64,
     /// Wall time in contact [s].
@@ -159,7 +244,8 @@ fn write<T: Serialize>(dir: &Path, name: &str, rows: &[T], out: &mut Vec<PathBuf
     Ok(())
 }
 
-/// Writes tips.csv, interface.csv, faces.csv, contact.csv, energy.csv, arrivals.csv, probes.csv into `dir`.
+/// Writes tips.csv, interface.csv, faces.csv, contact.csv, energy.csv, arrivals.csv, probes.csv
+/// and, when declared, residual_stress.csv, kkt.csv, field.csv, profile.csv into `dir`.
 pub fn write_csv(output: &RunOutput, dir: &Path) -> io::Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir)?;
     let mut out = Vec::new();
@@ -170,5 +256,16 @@ pub fn write_csv(output: &RunOutput, dir: &Path) -> io::Result<Vec<PathBuf>> {
     write(dir, "energy.csv", &output.energy, &mut out)?;
     write(dir, "arrivals.csv", &output.arrivals, &mut out)?;
     write(dir, "probes.csv", &output.probes, &mut out)?;
+    // the Section 4 diagnostics exist only when the scene declares them
+    if !output.residual_stress.is_empty() {
+        write(dir, "residual_stress.csv", &output.residual_stress, &mut out)?;
+    }
+    if !output.kkt.is_empty() {
+        write(dir, "kkt.csv", &output.kkt, &mut out)?;
+    }
+    if !output.fields.is_empty() {
+        write(dir, "field.csv", &output.fields, &mut out)?;
+        write(dir, "profile.csv", &output.profiles, &mut out)?;
+    }
     Ok(out)
 }

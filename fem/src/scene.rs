@@ -2,11 +2,13 @@
 //! stable-step formula needed to check a requested step.
 
 mod boundary;
+mod diagnostics;
 mod fem;
 mod interface_spec;
 mod raw;
 
 pub use boundary::{BoundaryComponent, BoundaryKind, BoundarySpec};
+pub use diagnostics::Diagnostics;
 pub use fem::{DampingSet, FemSpec, InsertionRule, ModelKind};
 pub(crate) use interface_spec::zone_of;
 pub use interface_spec::{ContactSurface, InterfaceZone};

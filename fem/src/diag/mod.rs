@@ -1,11 +1,12 @@
 //! Read-only observers of the state that emit the output records.
 
 pub(crate) mod energy;
+pub(crate) mod section4;
 pub(crate) mod tips;
 pub(crate) mod tractions;
 
 use crate::model::state::{Model, State, Workspace};
-use crate::output::{ProbeRecord, RunOutput};
+use crate::output::{ProbeRecord, ResidualStressRecord, RunOutput};
 
 /// An observer of sampled states.
 pub trait Observer {
@@ -29,6 +30,7 @@ impl Observer for Recorder<'_> {
             out.contact.push(mean);
         }
         out.energy.push(energy::record(model, state, ws));
+        section4(model, state, out);
         for (k, &n) in model.probes.iter().enumerate() {
             let n = n as usize;
             let (x, u, v) = (model.grid.x0[n], state.u[n], state.v[n]);
@@ -43,5 +45,31 @@ impl Observer for Recorder<'_> {
                 vy: v.y,
             });
         }
+    }
+}
+
+/// The Section 4 diagnostics the scene declares (none by default).
+fn section4(model: &Model, state: &State, out: &mut RunOutput) {
+    let d = &model.diagnostics;
+    if let Some(range) = d.residual_stress_x {
+        out.residual_stress.push(ResidualStressRecord {
+            t: state.t,
+            residual_stress: section4::residual_stress(model, state, range),
+        });
+    }
+    if d.kkt_metric {
+        out.kkt.push(section4::kkt(model, state));
+    }
+    let k = out.snapshot_times.len();
+    if k < d.snapshot_times.len() && state.t >= d.snapshot_times[k] - 0.5 * model.dt {
+        section4::snapshot(
+            model,
+            state,
+            k,
+            d.snapshot_window,
+            &mut out.fields,
+            &mut out.profiles,
+        );
+        out.snapshot_times.push(state.t);
     }
 }

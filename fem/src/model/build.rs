@@ -91,6 +91,7 @@ pub fn build_with_row_map(
         probes,
         crack,
         lateral_contraction: f.lateral_contraction,
+        diagnostics: f.diagnostics.clone(),
         iface,
         facet_gradients,
         grid,

@@ -65,6 +65,8 @@ pub struct Model {
     /// Pre-crack (x_c, a) [m].
     pub(crate) crack: Option<(f64, f64)>,
     pub(crate) lateral_contraction: bool,
+    /// Section 4 diagnostics to record.
+    pub(crate) diagnostics: crate::scene::Diagnostics,
 }
 
 /// Cohesive state of the interface row's facets (struct of arrays, indexed by facet).

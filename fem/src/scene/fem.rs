@@ -1,6 +1,7 @@
 //! The `[fem]` section: discretisation, model options, boundary conditions.
 
 use super::boundary::{BoundarySpec, side};
+use super::diagnostics::{Diagnostics, diagnostics};
 use super::interface_spec::{ContactSurface, InterfaceZone, sine_polyline, zones_and_surface};
 use super::raw::RawFem;
 use super::{Crack, check};
@@ -86,6 +87,8 @@ pub struct FemSpec {
     pub interface_zones: Vec<InterfaceZone>,
     /// Which faces form the contact detection surface.
     pub contact_surface: ContactSurface,
+    /// Section 4 diagnostics the scene asks for (none by default).
+    pub diagnostics: Diagnostics,
     /// Probe points (reference positions [m]); the nearest node is recorded.
     pub probes: Vec<[f64; 2]>,
     /// Side-wise boundary conditions; `None`: Westergaard displacements on the whole boundary.
@@ -193,6 +196,7 @@ pub(crate) fn validate_fem(f: &RawFem, crack: Option<&Crack>, duration: f64) -> 
         interface_polyline,
         interface_zones,
         contact_surface,
+        diagnostics: diagnostics(f, duration)?,
         probes: probes(f)?,
         boundary,
     })

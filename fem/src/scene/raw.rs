@@ -119,6 +119,10 @@ pub(crate) struct RawFem {
     pub interface_sine: Option<RawSine>,
     pub interface_zones: Option<Vec<RawZone>>,
     pub contact_surface: Option<String>,
+    pub residual_stress_x: Option<[f64; 2]>,
+    pub kkt_metric: Option<bool>,
+    pub snapshot_times: Option<Vec<f64>>,
+    pub snapshot_window: Option<[[f64; 2]; 2]>,
     pub probes: Option<Vec<[f64; 2]>>,
     pub boundary: Option<RawBoundary>,
 }

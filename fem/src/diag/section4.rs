@@ -1,0 +1,233 @@
+//! Section 4 diagnostics (paper Figures 10-12): the residual stress of eq. (17), the contact (KKT)
+//! conditions on the crack faces of the contact surface, and stress snapshots. Read-only; called
+//! at sample times only, and only for what the scene declares.
+
+use crate::law::cohesive::ClosingTreatment;
+use crate::mesh::interfaces::{FacetKind, InterfaceRow};
+use crate::model::bulk;
+use crate::model::cohesive::{facet_gauss, midline_normal};
+use crate::model::state::{Model, State};
+use crate::output::{FieldRecord, KktRecord, ProfileRecord};
+use nalgebra::Vector2;
+
+/// Columns searched on each side of a node for the closest opposing segment (slips up to this
+/// many elements are measured exactly).
+const SEARCH_COLUMNS: usize = 100;
+
+fn pos(model: &Model, state: &State, n: u32) -> Vector2<f64> {
+    model.grid.x0[n as usize] + state.u[n as usize]
+}
+
+/// Whether facet c is a free crack face of the contact surface (pre-crack or inserted).
+fn free_face(model: &Model, state: &State, row: &InterfaceRow, c: usize) -> bool {
+    model.facet_detect[c] && (row.kind[c] == FacetKind::PreCrack || state.facets.inserted[c])
+}
+
+/// Facets adjacent to column i.
+fn adjacent(row: &InterfaceRow, i: usize) -> impl Iterator<Item = usize> {
+    let nf = row.num_facets();
+    [i.wrapping_sub(1), i].into_iter().filter(move |&c| c < nf)
+}
+
+/// Signed distance [m] of point p to the polyline through `face` (current positions), searched
+/// over columns i0 ± SEARCH_COLUMNS; positive on the side the polyline's left normal points to
+/// (upwards for a left-to-right row). At a vertex the two segments' normals are averaged.
+fn signed_distance(model: &Model, state: &State, face: &[u32], i0: usize, p: Vector2<f64>) -> f64 {
+    let lo = i0.saturating_sub(SEARCH_COLUMNS);
+    let hi = (i0 + SEARCH_COLUMNS).min(face.len() - 1);
+    let normal = |k: usize| {
+        let t = pos(model, state, face[k + 1]) - pos(model, state, face[k]);
+        Vector2::new(-t.y, t.x).normalize()
+    };
+    let mut best = (f64::INFINITY, 0.0);
+    for k in lo..hi {
+        let a = pos(model, state, face[k]);
+        let t = pos(model, state, face[k + 1]) - a;
+        let s = ((p - a).dot(&t) / t.norm_squared()).clamp(0.0, 1.0);
+        let q = a + s * t;
+        let d = (p - q).norm();
+        if d < best.0 {
+            let n = match s {
+                s if s <= 0.0 && k > 0 => normal(k - 1) + normal(k),
+                s if s >= 1.0 && k + 2 < face.len() => normal(k) + normal(k + 1),
+                _ => normal(k),
+            };
+            best = (d, if (p - q).dot(&n) >= 0.0 { d } else { -d });
+        }
+    }
+    best.1
+}
+
+/// True gaps [m] of the + and − copies of column i (> 0 open).
+fn gaps(model: &Model, state: &State, row: &InterfaceRow, i: usize) -> (f64, f64) {
+    let gp = signed_distance(model, state, &row.minus, i, pos(model, state, row.plus[i]));
+    let gm = -signed_distance(model, state, &row.plus, i, pos(model, state, row.minus[i]));
+    (gp, gm)
+}
+
+/// Compressive tractions [Pa] carried by the + and − copies of column i: the slave contact
+/// pressure (hybrid) or ε_n ⟨−δ_n⟩₊ of the frozen twin pair (standard, eq. 4).
+fn compressive(model: &Model, state: &State, row: &InterfaceRow, i: usize) -> (f64, f64) {
+    match (model.closing, &state.contact) {
+        (ClosingTreatment::Standard { eps_n }, _) => {
+            let mut n = Vector2::zeros();
+            for c in adjacent(row, i).filter(|&c| state.facets.inserted[c]) {
+                n += midline_normal(row, &model.grid.x0, &state.u, c, state.facets.sign[c]);
+            }
+            if n == Vector2::zeros() {
+                return (0.0, 0.0);
+            }
+            let delta_n =
+                (pos(model, state, row.plus[i]) - pos(model, state, row.minus[i])).dot(&n.normalize());
+            let p = eps_n * (-delta_n).max(0.0);
+            (p, p)
+        }
+        (ClosingTreatment::Hybrid, Some(cp)) => {
+            let cs = &cp.state;
+            let p = |n: u32| {
+                let n = n as usize;
+                if cs.in_contact[n] {
+                    cs.normal_pressure[n]
+                } else {
+                    0.0
+                }
+            };
+            (p(row.plus[i]), p(row.minus[i]))
+        }
+        (ClosingTreatment::Hybrid, None) => (0.0, 0.0),
+    }
+}
+
+/// The KKT record of the current state.
+pub(crate) fn kkt(model: &Model, state: &State) -> KktRecord {
+    let mut r = KktRecord {
+        t: state.t,
+        crack_face_nodes: 0,
+        compressive_nodes: 0,
+        violating_nodes: 0,
+        violating_share: 0.0,
+        max_violating_traction: 0.0,
+        mismatch_nodes: 0,
+        max_slip: 0.0,
+    };
+    let Some(row) = &model.iface else { return r };
+    for i in 0..row.plus.len() {
+        if !adjacent(row, i).any(|c| free_face(model, state, row, c)) {
+            continue;
+        }
+        let (gp, gm) = gaps(model, state, row, i);
+        let (pp, pm) = compressive(model, state, row, i);
+        for (g, p) in [(gp, pp), (gm, pm)] {
+            r.crack_face_nodes += 1;
+            r.compressive_nodes += usize::from(p > 0.0);
+            if p > 0.0 && g > 0.0 {
+                r.violating_nodes += 1;
+                r.max_violating_traction = r.max_violating_traction.max(p);
+            }
+            r.mismatch_nodes += usize::from((p > 0.0) != (g < 0.0));
+        }
+        let n = row.normal[i.min(row.num_facets() - 1)];
+        let tangent = Vector2::new(n.y, -n.x);
+        let slip = (state.u[row.plus[i] as usize] - state.u[row.minus[i] as usize]).dot(&tangent);
+        r.max_slip = r.max_slip.max(slip.abs());
+    }
+    if r.crack_face_nodes > 0 {
+        r.violating_share = r.violating_nodes as f64 / r.crack_face_nodes as f64;
+    }
+    r
+}
+
+/// Gauss stresses [Pa] of element e.
+fn element_stresses(model: &Model, state: &State, e: usize, grads: &bulk::GaussGradients) -> [[f64; 3]; 4] {
+    let ue = model.grid.element_nodes(e).map(|n| state.u[n as usize]);
+    bulk::gauss_stresses(grads, &model.d, &ue)
+}
+
+/// Residual stress of eq. (17) [Pa]: ∫ (σ n)·e_x dA over the + facets with midpoint in [x₀, x₁],
+/// divided by x₁ − x₀; σ from the + element extrapolated to the facet Gauss points (fem-method
+/// §8), n the reference facet normal (− → +), so that a flat face gives the mean σ_xy.
+pub(crate) fn residual_stress(model: &Model, state: &State, [x0, x1]: [f64; 2]) -> f64 {
+    let Some(row) = &model.iface else { return 0.0 };
+    let mut integral = 0.0;
+    for c in 0..row.num_facets() {
+        let mid = 0.5 * (model.grid.x0[row.plus[c] as usize].x + model.grid.x0[row.plus[c + 1] as usize].x);
+        if mid < x0 || mid > x1 {
+            continue;
+        }
+        let sp = element_stresses(
+            model,
+            state,
+            row.elem_plus[c] as usize,
+            &model.facet_gradients[c][0],
+        );
+        let n = row.normal[c];
+        for (s, _, _) in facet_gauss() {
+            let sig = bulk::extrapolate(&sp, s, -1.0);
+            integral += 0.5 * row.length[c] * (sig[0] * n.x + sig[2] * n.y);
+        }
+    }
+    integral / (x1 - x0)
+}
+
+/// Appends the element stresses inside `window` and the upper-face profile of the contact
+/// surface for snapshot k.
+pub(crate) fn snapshot(
+    model: &Model,
+    state: &State,
+    k: usize,
+    window: [[f64; 2]; 2],
+    fields: &mut Vec<FieldRecord>,
+    profiles: &mut Vec<ProfileRecord>,
+) {
+    let [[x0, x1], [y0, y1]] = window;
+    for e in 0..model.grid.num_elements() {
+        let c = model.grid.element_coords(e);
+        let centre = (c[0] + c[1] + c[2] + c[3]) / 4.0;
+        if centre.x < x0 || centre.x > x1 || centre.y < y0 || centre.y > y1 {
+            continue;
+        }
+        let sig = element_stresses(model, state, e, &bulk::gauss_gradients(&c));
+        let mean = |p: usize| sig.iter().map(|s| s[p]).sum::<f64>() / 4.0;
+        fields.push(FieldRecord {
+            snapshot: k,
+            t: state.t,
+            x: centre.x,
+            y: centre.y,
+            sxx: mean(0),
+            syy: mean(1),
+            sxy: mean(2),
+        });
+    }
+    let Some(row) = &model.iface else { return };
+    for i in 0..row.plus.len() {
+        if !adjacent(row, i).any(|c| model.facet_detect[c]) {
+            continue;
+        }
+        let mut syy = 0.0;
+        let mut count = 0.0;
+        for c in adjacent(row, i) {
+            let sp = element_stresses(
+                model,
+                state,
+                row.elem_plus[c] as usize,
+                &model.facet_gradients[c][0],
+            );
+            let xi = if c + 1 == i { 1.0 } else { -1.0 };
+            syy += bulk::extrapolate(&sp, xi, -1.0)[1];
+            count += 1.0;
+        }
+        let (gp, _) = gaps(model, state, row, i);
+        let (pp, _) = compressive(model, state, row, i);
+        let x = model.grid.x0[row.plus[i] as usize];
+        profiles.push(ProfileRecord {
+            snapshot: k,
+            t: state.t,
+            x: x.x,
+            y: x.y,
+            syy: syy / count,
+            crack_face: adjacent(row, i).any(|c| free_face(model, state, row, c)),
+            gap: gp,
+            compressive_traction: pp,
+        });
+    }
+}
