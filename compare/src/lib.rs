@@ -3,12 +3,15 @@
 //! tolerances, writes CSV and PNG.
 
 pub mod align;
+pub mod contact_windows;
 pub mod fem_figures;
 pub mod figures;
 pub mod gate;
 pub mod metrics;
 pub mod models;
 pub mod output;
+pub mod penalty;
+pub mod penalty_figures;
 pub mod plot;
 pub mod scene;
 pub mod sweep;

@@ -14,6 +14,7 @@ compare — run the FE and spectral models on one scene and check that they agre
 USAGE:
     cargo run --release -p compare [-- OPTIONS]           FE vs spectral gate
     cargo run --release -p compare -- sweep [OPTIONS]     speed/accuracy sweep
+    cargo run --release -p compare -- penalty [OPTIONS]   penalty study (paper Appendix D)
 
 OPTIONS:
     --scene FILE   scene to run (default: scenes/center-crack.toml)
@@ -40,6 +41,12 @@ spectral model at the power-of-two N nearest to X/h, each in its own process, at
 their errors against the finest run of the same model; writes sweep.csv and
 sweep_error_vs_wall_time.png, and each point's tip history tips_<model>_<h>mm.csv
 (default folder out/<scene name>-sweep/).
+
+penalty: runs the FE model at the scene's [friction].friction_coeff with eps_n = eps_t =
+100, 200, 300 x E per metre; writes penalty_faces.csv (upper-face penetration/2a at t/T = 0.6),
+penalty_means.csv (mean contact tractions against time), penalty_summary.csv (window means
+against |s_yy| and mu|s_yy|) and the three panels of Figure D.15 (default folder
+out/<scene name>-penalty/).
 ";
 
 /// What the command line asks for.
@@ -47,6 +54,8 @@ sweep_error_vs_wall_time.png, and each point's tip history tips_<model>_<h>mm.cs
 enum Command {
     Gate,
     Sweep,
+    /// Penalty study (paper Appendix D).
+    Penalty,
     /// Child side of the sweep: one model at one nominal size [m].
     SweepPoint(Model, f64),
 }
@@ -80,6 +89,7 @@ fn parse_args() -> Result<Option<Args>> {
     let mut it = std::env::args().skip(1).peekable();
     match it.peek().map(String::as_str) {
         Some("sweep") => args.command = Command::Sweep,
+        Some("penalty") => args.command = Command::Penalty,
         Some("sweep-point") => args.command = Command::SweepPoint(Model::Fem, 0.0),
         _ => {}
     }
@@ -198,6 +208,15 @@ fn real_main() -> Result<bool> {
                 .out
                 .unwrap_or_else(|| PathBuf::from("out").join(format!("{stem}-sweep")));
             return run_sweep(&args.scene, &text, &out);
+        }
+        Command::Penalty => {
+            let out = args
+                .out
+                .unwrap_or_else(|| PathBuf::from("out").join(format!("{stem}-penalty")));
+            let report = compare::penalty::run_study(&text, &out, &Bars(MultiProgress::new()))?;
+            print!("{}", compare::penalty::table(&report.summary));
+            println!("\n{} files written to {}", report.files.len(), out.display());
+            return Ok(true);
         }
     }
     let out = args.out.unwrap_or_else(|| PathBuf::from("out").join(stem));

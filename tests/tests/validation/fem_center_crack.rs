@@ -2,6 +2,7 @@
 //! (500 × 250 elements, T = 0.02 s), one full run per friction coefficient, every claim of that
 //! run asserted in one test.
 
+use compare::contact_windows;
 use validation::scene_text;
 
 const TOL_NORMAL_REL: f64 = 0.02; // issue 3 claim 7: mean normal traction before onset = |s_yy| within 2 %; not tuned
@@ -95,67 +96,16 @@ fn check_speed_and_energy(scene: &fem::Scene, out: &fem::RunOutput) {
     assert!(worst <= TOL_BALANCE_REL);
 }
 
-/// First time at which at least half of the contacting pre-crack face nodes slip (|T| = μ p_N).
-fn slip_time(scene: &fem::Scene, out: &fem::RunOutput) -> f64 {
-    let (a, xc, mu) = (scene.half_length(), scene.center_x(), scene.friction_coeff);
-    let mut times: Vec<f64> = out.faces.iter().map(|f| f.t).collect();
-    times.dedup();
-    for t in times {
-        let rows = out
-            .faces
-            .iter()
-            .filter(|f| f.t == t && (f.x - xc).abs() < a && f.normal_traction > 0.0);
-        let (mut n, mut slipping) = (0, 0);
-        for f in rows {
-            n += 1;
-            if f.tangential_traction >= (1.0 - 1e-9) * mu * f.normal_traction {
-                slipping += 1;
-            }
-        }
-        if n > 0 && 2 * slipping >= n {
-            return t;
-        }
-    }
-    f64::INFINITY
-}
-
-fn window_mean(
-    out: &fem::RunOutput,
-    t0: f64,
-    t1: f64,
-    value: impl Fn(&fem::ContactMeanRecord) -> f64,
-) -> f64 {
-    let v: Vec<f64> = out
-        .contact
-        .iter()
-        .filter(|c| c.t >= t0 && c.t <= t1)
-        .map(value)
-        .collect();
-    assert!(!v.is_empty(), "empty window [{t0}, {t1}]");
-    v.iter().sum::<f64>() / v.len() as f64
-}
-
-/// Time [s] of the first cohesive insertion anywhere on the interface (the onset of damage).
-fn first_insertion(out: &fem::RunOutput) -> f64 {
-    out.arrivals
-        .iter()
-        .map(|a| a.insertion_time)
-        .filter(|t| t.is_finite())
-        .fold(f64::INFINITY, f64::min)
-}
-
 /// Claim 7 mean tractions on one μ = 0.3 run: (mean normal traction before onset, mean
-/// tangential traction while slipping) [Pa], with the slip time [s].
+/// tangential traction while slipping) [Pa], with the slip time [s]. The windows (0.2 T until the
+/// onset of insertion; slip + 0.05 T until onset) are `compare::contact_windows`, shared with
+/// the penalty study.
 fn mean_tractions(scene: &fem::Scene, out: &fem::RunOutput) -> (f64, f64, f64) {
-    let big_t = scene.duration();
-    let onset = first_insertion(out);
-    println!("onset of insertion at t/T = {:.3}", onset / big_t);
-    // mean normal traction once the compression is held (t ≥ 0.2 T, after its 0.1 T ramp) until onset
-    let tn = window_mean(out, 0.2 * big_t, onset, |c| c.mean_normal_traction);
-    let t_slip = slip_time(scene, out);
-    // mean tangential traction while slipping (from 0.05 T after slip onset until onset of growth)
-    let tt = window_mean(out, t_slip + 0.05 * big_t, onset, |c| c.mean_tangential_traction);
-    (tn, tt, t_slip)
+    let m = contact_windows::mean_tractions(scene, out);
+    println!("onset of insertion at t/T = {:.3}", m.onset / scene.duration());
+    let tn = m.normal.expect("empty normal-traction window");
+    let tt = m.tangential.expect("empty tangential-traction window");
+    (tn, tt, m.slip)
 }
 
 #[test]
@@ -218,7 +168,7 @@ fn center_crack_mean_tractions() {
 #[test]
 fn center_crack_without_friction() {
     let (scene, out) = run(0.0);
-    let onset = first_insertion(&out);
+    let onset = contact_windows::first_insertion(&out);
     println!(
         "mu = 0: onset of insertion at t/T = {:.3}",
         onset / scene.duration()
