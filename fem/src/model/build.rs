@@ -7,7 +7,7 @@ use crate::mesh::interfaces::{FacetKind, InterfaceRow};
 use crate::mesh::structured::{Grid, GridSpec};
 use crate::model::bulk::{self, Stiffness};
 use crate::model::loading;
-use crate::model::mapped::{MappedStiffness, Trapezoid};
+use crate::model::mapped::{GaussShape, MappedStiffness, Trapezoid};
 use crate::model::state::{ContactPart, EnergyTotals, Facets, Model, State, Workspace};
 use crate::scene::{ContactSurface, ModelKind, Scene, zone_of};
 use nalgebra::Vector2;
@@ -194,7 +194,7 @@ fn stiffness(grid: &Grid, d: &[[f64; 3]; 3]) -> Result<Stiffness, BuildError> {
         Ok(Stiffness::Mapped(Box::new(MappedStiffness {
             half_width: 0.5 * width,
             d: *d,
-            shapes,
+            shapes: shapes.iter().map(GaussShape::of).collect(),
         })))
     } else {
         (0..grid.num_elements())
