@@ -9,9 +9,6 @@ use crate::mesh::structured::Grid;
 use nalgebra::Vector2;
 use rayon::prelude::*;
 
-/// Corner signs (ξ_a, η_a) counter-clockwise from the bottom-left corner.
-const CORNERS: [(f64, f64); 4] = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
-
 /// Shape of one vertical-sided element: left and right heights y_d − y_a, y_c − y_b and bottom
 /// and top rises y_b − y_a, y_c − y_d [m].
 #[derive(Debug, Clone, Copy, PartialEq)]
