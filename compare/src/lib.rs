@@ -4,6 +4,7 @@
 
 pub mod align;
 pub mod contact_windows;
+pub mod contour;
 pub mod fem_figures;
 pub mod figures;
 pub mod gate;
@@ -14,4 +15,9 @@ pub mod penalty;
 pub mod penalty_figures;
 pub mod plot;
 pub mod scene;
+pub mod sinusoid;
+pub mod sinusoid_contact;
+pub mod sinusoid_figures;
+pub mod sinusoid_metrics;
+pub mod sinusoid_snapshot;
 pub mod sweep;

@@ -7,6 +7,12 @@ use plotters::prelude::*;
 use plotters::style::FontStyle;
 use std::path::Path;
 
+mod lines;
+mod map;
+
+pub use lines::{Shading, line_chart, line_chart_shaded};
+pub use map::{ContourSet, Map, diverging, map_with_contours};
+
 const SIZE: (u32, u32) = (1000, 700);
 const FONT: &str = "sans-serif";
 
@@ -23,6 +29,8 @@ pub enum Dash {
     Solid,
     /// Dashed line.
     Dashed,
+    /// A filled circle at each point, no line.
+    Markers,
 }
 
 /// One curve of a line chart.
@@ -67,96 +75,6 @@ pub const PALETTE: [RGBColor; 6] = [
     RGBColor(86, 180, 233),
     RGBColor(230, 159, 0),
 ];
-
-fn bounds(curves: &[Curve], marks: &[Mark]) -> ((f64, f64), (f64, f64)) {
-    let pts = curves
-        .iter()
-        .flat_map(|c| c.points.iter())
-        .filter(|p| p.0.is_finite() && p.1.is_finite());
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-    for &(x, y) in pts {
-        (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
-    }
-    for m in marks {
-        match m {
-            Mark::Vertical(x, _) => (x0, x1) = (x0.min(*x), x1.max(*x)),
-            Mark::Horizontal(y, _, _) => (y0, y1) = (y0.min(*y), y1.max(*y)),
-        }
-    }
-    if x0 > x1 {
-        return ((0.0, 1.0), (0.0, 1.0));
-    }
-    let pad = |a: f64, b: f64| {
-        let d = if b > a {
-            0.04 * (b - a)
-        } else {
-            0.5 * a.abs().max(1e-12)
-        };
-        (a - d, b + d)
-    };
-    (pad(x0, x1), pad(y0, y1))
-}
-
-/// Draws a line chart with a legend to `path` (PNG).
-pub fn line_chart(path: &Path, labels: Labels, curves: &[Curve], marks: &[Mark]) -> Result<()> {
-    register_font()?;
-    let ((x0, x1), (y0, y1)) = bounds(curves, marks);
-    let root = BitMapBackend::new(path, SIZE).into_drawing_area();
-    root.fill(&WHITE)?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(labels.title, (FONT, 26))
-        .margin(15)
-        .x_label_area_size(55)
-        .y_label_area_size(85)
-        .build_cartesian_2d(x0..x1, y0..y1)?;
-    chart
-        .configure_mesh()
-        .x_desc(labels.x)
-        .y_desc(labels.y)
-        .label_style((FONT, 16))
-        .axis_desc_style((FONT, 20))
-        .draw()?;
-    for c in curves {
-        let style = ShapeStyle::from(&c.color).stroke_width(2);
-        let pts = c
-            .points
-            .iter()
-            .copied()
-            .filter(|p| p.0.is_finite() && p.1.is_finite());
-        let color = c.color;
-        let anno = match c.dash {
-            Dash::Solid => chart.draw_series(LineSeries::new(pts, style))?,
-            Dash::Dashed => chart.draw_series(DashedLineSeries::new(pts, 8, 5, style))?,
-        };
-        anno.label(c.label.clone())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
-    }
-    for m in marks {
-        match m {
-            Mark::Vertical(x, color) => {
-                let pts = vec![(*x, y0), (*x, y1)];
-                chart.draw_series(DashedLineSeries::new(pts, 4, 4, color.stroke_width(1)))?;
-            }
-            Mark::Horizontal(y, color, label) => {
-                let color = *color;
-                let pts = vec![(x0, *y), (x1, *y)];
-                chart
-                    .draw_series(DashedLineSeries::new(pts, 4, 4, color.stroke_width(1)))?
-                    .label(label.clone())
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(1)));
-            }
-        }
-    }
-    chart
-        .configure_series_labels()
-        .label_font((FONT, 16))
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .position(SeriesLabelPosition::UpperLeft)
-        .draw()?;
-    root.present()
-        .with_context(|| format!("writing {}", path.display()))
-}
 
 /// A space-time field sampled on a regular grid: `values[i_t][i_x]`, NaN where undefined.
 #[derive(Debug, Clone)]
@@ -228,7 +146,7 @@ pub fn space_time(path: &Path, labels: Labels, field: &Field, scale: &Scale) -> 
         })
     });
     chart.draw_series(cells)?;
-    draw_colour_bar(&bar, scale)?;
+    draw_colour_bar(&bar, scale, colour)?;
     root.present()
         .with_context(|| format!("writing {}", path.display()))
 }
@@ -256,7 +174,11 @@ fn cell_edges(v: &[f64]) -> Vec<(f64, f64)> {
         .collect()
 }
 
-fn draw_colour_bar(area: &DrawingArea<BitMapBackend, plotters::coord::Shift>, s: &Scale) -> Result<()> {
+fn draw_colour_bar(
+    area: &DrawingArea<BitMapBackend, plotters::coord::Shift>,
+    s: &Scale,
+    colour: fn(f64, &Scale) -> RGBColor,
+) -> Result<()> {
     let mut bar = ChartBuilder::on(area)
         .margin_top(60)
         .margin_bottom(70)
