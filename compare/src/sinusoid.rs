@@ -356,7 +356,7 @@ mod tests {
             "model,max_kkt_share,t_slip_2h,min_kkt_share_after_slip,max_violating_traction,\
              max_zone_mismatch_share,mean_residual_stress_second_half,final_residual_stress,onset,\
              max_kinetic_over_internal_after_onset,final_tip_right,final_cz_tip_right,\
-             wall_s,steps,time_step,completed"
+             t_weak_cracked,t_strong_entered,wall_s,steps,time_step,completed"
         );
         assert!(text.lines().nth(1).unwrap().starts_with("hybrid,"));
         assert!(table(&[r], &setup).contains("UNSTABLE"));

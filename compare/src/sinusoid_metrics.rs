@@ -34,6 +34,27 @@ pub struct SinusoidSummary {
     pub final_tip_right: f64,
     /// Right cohesive-zone tip at t = T [m].
     pub final_cz_tip_right: f64,
+    /// First time the right crack tip reaches 2.4a: the weak branch has cracked and the crack is
+    /// arrested at the strong interface (2.5a) [s] (NaN: never).
+    pub t_weak_cracked: f64,
+    /// First time the right crack tip passes 2.5a + 0.08a (l_p of the strong interface): the
+    /// crack has entered the strong interface [s] (NaN: never).
+    pub t_strong_entered: f64,
+}
+
+/// Mean residual stress of eq. (17) over samples with t0 ≤ t ≤ t1 [Pa] (NaN if none).
+pub fn mean_residual_stress(out: &RunOutput, t0: f64, t1: f64) -> f64 {
+    let v: Vec<f64> = out
+        .residual_stress
+        .iter()
+        .filter(|r| r.t >= t0 && r.t <= t1)
+        .map(|r| r.residual_stress)
+        .collect();
+    if v.is_empty() {
+        f64::NAN
+    } else {
+        v.iter().sum::<f64>() / v.len() as f64
+    }
 }
 
 /// Computes the summary; `a` is the pre-crack half-length [m], `h` the element size [m], `duration` T [s].
@@ -69,20 +90,32 @@ pub fn summarise(model: &str, out: &RunOutput, a: f64, h: f64, duration: f64) ->
         .map(|e| e.kinetic / e.strain)
         .fold(f64::NAN, f64::max);
     let last_tip = out.tips.last();
+    let first_tip_past = |x: f64| {
+        out.tips
+            .iter()
+            .find(|r| r.tip_right >= x)
+            .map_or(f64::NAN, |r| r.t)
+    };
     SinusoidSummary {
         model: model.to_string(),
         max_kkt_share: fmax(&mut out.kkt.iter().map(|r| r.violating_share)),
         t_slip_2h,
         min_kkt_share_after_slip: min_after,
         max_violating_traction: fmax(&mut out.kkt.iter().map(|r| r.max_violating_traction)),
-        max_zone_mismatch_share: fmax(&mut out.kkt.iter().filter(|r| r.crack_face_nodes > 0).map(|r| {
-            r.mismatch_nodes as f64 / r.crack_face_nodes as f64
-        })),
+        max_zone_mismatch_share: fmax(
+            &mut out
+                .kkt
+                .iter()
+                .filter(|r| r.crack_face_nodes > 0)
+                .map(|r| r.mismatch_nodes as f64 / r.crack_face_nodes as f64),
+        ),
         mean_residual_stress_second_half: second_half.iter().sum::<f64>() / second_half.len().max(1) as f64,
         final_residual_stress: out.residual_stress.last().map_or(f64::NAN, |r| r.residual_stress),
         onset,
         max_kinetic_over_internal_after_onset: ratio,
         final_tip_right: last_tip.map_or(f64::NAN, |r| r.tip_right),
         final_cz_tip_right: last_tip.map_or(f64::NAN, |r| r.cz_tip_right),
+        t_weak_cracked: first_tip_past(2.4 * a),
+        t_strong_entered: first_tip_past(2.58 * a),
     }
 }

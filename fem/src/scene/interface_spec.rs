@@ -159,7 +159,12 @@ mod tests {
         assert_eq!(s.fem.interface_y(0.1), 0.0);
         assert_eq!(s.fem.interface_zones.len(), 2);
         assert_eq!(s.fem.interface_zones[1].law.sigma_c, 0.04e6);
-        assert_eq!(s.fem.contact_surface, ContactSurface::Zones);
+        assert_eq!(s.fem.contact_surface, ContactSurface::All);
+        let zones = sinusoid().replace("contact_surface = \"all\"", "contact_surface = \"zones\"");
+        assert_eq!(
+            Scene::from_toml_str(&zones).unwrap().fem.contact_surface,
+            ContactSurface::Zones
+        );
         // steepest slope π/2 at |x| = a: altitude 1 mm / √(1 + π²/4) = 0.537 mm there; rows
         // compressed near the crests make the minimum a little smaller (0.51 mm)
         let alt = 1e-3 / (1.0 + 0.25 * std::f64::consts::PI.powi(2)).sqrt();
@@ -179,6 +184,7 @@ mod tests {
         let e = Scene::from_toml_str(&weak).unwrap_err().to_string();
         assert!(e.contains("fem.interface_zones.sigma_c"), "{e}");
         let no_zones: String = sinusoid()
+            .replace("contact_surface = \"all\"", "contact_surface = \"zones\"")
             .split("[[fem.interface_zones]]")
             .next()
             .unwrap()

@@ -40,6 +40,10 @@ mod fem_patch_test;
 #[cfg(feature = "fem")]
 mod fem_wave_speeds;
 
+// ---- Section 4 claims (issue: sinusoidal interface) ----
+#[cfg(feature = "fem")]
+mod fem_sinusoid;
+
 // ---- compare claims (issue: compare) ----
 #[cfg(feature = "fem")]
 mod fem_extremes;
