@@ -36,15 +36,6 @@ fn normalised(s: &Series, case: &Case, t_origin: f64) -> Vec<(f64, f64)> {
         .collect()
 }
 
-fn curve(label: String, points: Vec<(f64, f64)>, i: usize, dash: Dash) -> Curve {
-    Curve {
-        label,
-        points,
-        color: PALETTE[i % PALETTE.len()],
-        dash,
-    }
-}
-
 /// Which alignment a tip-position figure shows.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Alignment {
@@ -78,13 +69,13 @@ fn tip_figure(path: &Path, case: &Case, runs: &[MuRuns], how: Alignment) -> Resu
                 PALETTE[i % PALETTE.len()],
             ));
         }
-        curves.push(curve(
+        curves.push(Curve::nth(
             format!("FE, μ = {}", r.mu),
             normalised(&f, case, of),
             i,
             Dash::Solid,
         ));
-        curves.push(curve(
+        curves.push(Curve::nth(
             format!("spectral, μ = {}", r.mu),
             normalised(&s, case, os),
             i,
@@ -124,7 +115,7 @@ fn velocity_figure(path: &Path, case: &Case, runs: &[MuRuns]) -> Result<()> {
                     .zip(&v.y)
                     .map(|(t, v)| ((t + shift) / case.duration, *v))
                     .collect();
-            curves.push(curve(format!("{name}, μ = {}", r.mu), pts, i, dash));
+            curves.push(Curve::nth(format!("{name}, μ = {}", r.mu), pts, i, dash));
         }
     }
     let marks = [Mark::Horizontal(
@@ -219,7 +210,7 @@ pub fn space_time_labels(title: &str) -> Labels<'_> {
 
 /// A curve of (t/T, value) points.
 pub fn time_curve(label: &str, points: Vec<(f64, f64)>, i: usize) -> Curve {
-    curve(label.to_string(), points, i, Dash::Solid)
+    Curve::nth(label.to_string(), points, i, Dash::Solid)
 }
 
 /// A horizontal reference line.

@@ -22,6 +22,20 @@ fn register_font() -> Result<()> {
         .map_err(|_| anyhow!("the bundled DejaVu Sans font did not parse"))
 }
 
+/// The axes of every chart: labels with units, the bundled font, grid lines or not.
+fn draw_axes(chart: &mut lines::Chart<'_, '_>, labels: Labels, grid: bool) -> Result<()> {
+    let mut mesh = chart.configure_mesh();
+    if !grid {
+        mesh.disable_mesh();
+    }
+    mesh.x_desc(labels.x)
+        .y_desc(labels.y)
+        .label_style((FONT, 16))
+        .axis_desc_style((FONT, 20))
+        .draw()?;
+    Ok(())
+}
+
 /// Line style of a curve.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Dash {
@@ -44,6 +58,18 @@ pub struct Curve {
     pub color: RGBColor,
     /// Solid or dashed.
     pub dash: Dash,
+}
+
+impl Curve {
+    /// A curve in the i-th palette colour.
+    pub fn nth(label: String, points: Vec<(f64, f64)>, i: usize, dash: Dash) -> Curve {
+        Curve {
+            label,
+            points,
+            color: PALETTE[i % PALETTE.len()],
+            dash,
+        }
+    }
 }
 
 /// A vertical or horizontal reference line (not in the legend unless labelled).
@@ -128,14 +154,7 @@ pub fn space_time(path: &Path, labels: Labels, field: &Field, scale: &Scale) -> 
         .x_label_area_size(55)
         .y_label_area_size(75)
         .build_cartesian_2d(x0..x1, t0..t1)?;
-    chart
-        .configure_mesh()
-        .disable_mesh()
-        .x_desc(labels.x)
-        .y_desc(labels.y)
-        .label_style((FONT, 16))
-        .axis_desc_style((FONT, 20))
-        .draw()?;
+    draw_axes(&mut chart, labels, false)?;
     let cells = field.values.iter().enumerate().flat_map(|(it, row)| {
         let (te, xe) = (&te, &xe);
         row.iter().enumerate().map(move |(ix, &v)| {

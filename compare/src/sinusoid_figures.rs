@@ -75,15 +75,6 @@ pub fn energy_ratio_rows(setup: &Setup, run: &ModelRun) -> Vec<EnergyRatioRow> {
         .collect()
 }
 
-fn curve(label: String, points: Vec<(f64, f64)>, i: usize, dash: Dash) -> Curve {
-    Curve {
-        label,
-        points,
-        color: PALETTE[i % PALETTE.len()],
-        dash,
-    }
-}
-
 /// Vertical marks at `time(run)`/T in each run's colour (skipped where NaN).
 fn time_marks(setup: &Setup, runs: &[ModelRun], time: impl Fn(&ModelRun) -> f64) -> Vec<Mark> {
     runs.iter()
@@ -180,13 +171,13 @@ fn tips_vs_shear(dir: &Path, setup: &Setup, runs: &[ModelRun]) -> Result<Vec<Pat
     for (i, r) in runs.iter().enumerate() {
         let rs = tip_shear_rows(setup, r);
         let pts = |f: fn(&TipShearRow) -> f64| rs.iter().map(|s| (s.shear_stress / 1e6, f(s))).collect();
-        curves.push(curve(
+        curves.push(Curve::nth(
             format!("{}: crack tip", r.model),
             pts(|s| s.tip_right_over_a),
             i,
             Dash::Solid,
         ));
-        curves.push(curve(
+        curves.push(Curve::nth(
             format!("{}: cohesive-zone tip", r.model),
             pts(|s| s.cz_tip_right_over_a),
             i,

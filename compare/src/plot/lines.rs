@@ -1,6 +1,6 @@
 //! Line charts: curves (solid, dashed or markers), reference marks and shaded x-intervals.
 
-use super::{Curve, Dash, FONT, Labels, Mark, SIZE, register_font};
+use super::{Curve, Dash, FONT, Labels, Mark, SIZE, draw_axes, register_font};
 use anyhow::{Context, Result};
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
@@ -75,13 +75,7 @@ pub fn line_chart_shaded(
         .x_label_area_size(55)
         .y_label_area_size(85)
         .build_cartesian_2d(x0..x1, y0..y1)?;
-    chart
-        .configure_mesh()
-        .x_desc(labels.x)
-        .y_desc(labels.y)
-        .label_style((FONT, 16))
-        .axis_desc_style((FONT, 20))
-        .draw()?;
+    draw_axes(&mut chart, labels, true)?;
     if let Some(s) = shading {
         let color = s.color;
         let rects = s

@@ -2,7 +2,7 @@
 //! top (paper Figure 10: σ_yy around the interface). Draws what it is given.
 
 use super::lines::draw_curves;
-use super::{Curve, FONT, Labels, Scale, draw_colour_bar, register_font};
+use super::{Curve, FONT, Labels, Scale, draw_axes, draw_colour_bar, register_font};
 use crate::contour::{GridCell, Segment};
 use anyhow::{Context, Result, anyhow};
 use plotters::prelude::*;
@@ -76,14 +76,7 @@ pub fn map_with_contours(path: &Path, labels: Labels, map: &Map, scale: &Scale) 
         .x_label_area_size(55)
         .y_label_area_size(85)
         .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)?;
-    chart
-        .configure_mesh()
-        .disable_mesh()
-        .x_desc(labels.x)
-        .y_desc(labels.y)
-        .label_style((FONT, 16))
-        .axis_desc_style((FONT, 20))
-        .draw()?;
+    draw_axes(&mut chart, labels, false)?;
     chart.draw_series(map.cells.iter().map(|c| {
         Rectangle::new(
             [(c.x.0, c.y.0), (c.x.1, c.y.1)],
