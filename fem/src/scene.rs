@@ -10,8 +10,8 @@ mod raw;
 pub use boundary::{BoundaryComponent, BoundaryKind, BoundarySpec};
 pub use diagnostics::Diagnostics;
 pub use fem::{DampingSet, FemSpec, InsertionRule, ModelKind};
-pub(crate) use interface_spec::zone_of;
 pub use interface_spec::{ContactSurface, InterfaceZone};
+pub(crate) use interface_spec::{in_range, zone_of};
 
 use crate::error::SceneError;
 use crate::law::cohesive::LinearCohesive;

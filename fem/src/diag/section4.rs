@@ -156,16 +156,20 @@ fn element_stresses(model: &Model, state: &State, e: usize, grads: &bulk::GaussG
 }
 
 /// Residual stress of eq. (17) [Pa]: ∫ (σ n)·e_x dA over the + facets with midpoint in [x₀, x₁],
-/// divided by x₁ − x₀; σ from the + element extrapolated to the facet Gauss points (fem-method
+/// divided by the x extent those facets cover (x₁ − x₀ up to half an element at each end); σ from the + element extrapolated to the facet Gauss points (fem-method
 /// §8), n the reference facet normal (− → +), so that a flat face gives the mean σ_xy.
 pub(crate) fn residual_stress(model: &Model, state: &State, [x0, x1]: [f64; 2]) -> f64 {
     let Some(row) = &model.iface else { return 0.0 };
-    let mut integral = 0.0;
+    let (mut integral, mut extent) = (0.0, 0.0);
     for c in 0..row.num_facets() {
-        let mid = 0.5 * (model.grid.x0[row.plus[c] as usize].x + model.grid.x0[row.plus[c + 1] as usize].x);
-        if mid < x0 || mid > x1 {
+        let (xa, xb) = (
+            model.grid.x0[row.plus[c] as usize].x,
+            model.grid.x0[row.plus[c + 1] as usize].x,
+        );
+        if !crate::scene::in_range(0.5 * (xa + xb), [x0, x1]) {
             continue;
         }
+        extent += xb - xa;
         let sp = element_stresses(
             model,
             state,
@@ -178,7 +182,7 @@ pub(crate) fn residual_stress(model: &Model, state: &State, [x0, x1]: [f64; 2]) 
             integral += 0.5 * row.length[c] * (sig[0] * n.x + sig[2] * n.y);
         }
     }
-    integral / (x1 - x0)
+    if extent > 0.0 { integral / extent } else { 0.0 }
 }
 
 /// Appends the element stresses inside `window` and the upper-face profile of the contact
@@ -241,5 +245,75 @@ pub(crate) fn snapshot(
             gap: gp,
             compressive_traction: pp,
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Scene;
+
+    fn sinusoid() -> (Scene, Model, State) {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/sinusoidal-interface.toml");
+        let scene = Scene::from_toml_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let (model, state, _) = crate::build(&scene).unwrap();
+        (scene, model, state)
+    }
+
+    #[test]
+    fn residual_stress_of_simple_shear_is_the_shear_stress_on_the_curved_branch() {
+        // u_x = γ y is reproduced exactly by Q4 elements, so σ = (0, 0, Gγ) everywhere and
+        // ∫ (σn)·e_x dA = Gγ ∫ n_y dA = Gγ (x₁ − x₀) over any facet row: σ̄ = Gγ exactly
+        let (scene, model, mut state) = sinusoid();
+        let gamma = 1e-3;
+        for (u, x) in state.u.iter_mut().zip(&model.grid.x0) {
+            *u = Vector2::new(gamma * x.y, 0.0);
+        }
+        let expect = scene.material.shear_modulus * gamma;
+        let got = residual_stress(&model, &state, scene.fem.diagnostics.residual_stress_x.unwrap());
+        assert!((got - expect).abs() <= 1e-9 * expect, "{got} vs {expect}");
+    }
+
+    #[test]
+    fn true_gap_of_a_lifted_face_is_the_lift_times_the_cosine_of_the_slope() {
+        let (_, model, mut state) = sinusoid();
+        let row = model.iface.as_ref().unwrap();
+        let d = 1e-6;
+        for &n in &row.plus {
+            state.u[n as usize] = Vector2::new(0.0, d);
+        }
+        // on flat stretches (pre-crack at column 400, strong interface at column 700) the gap is d;
+        // on the sinusoid the point lifted above a vertex is between d cos θ (θ the steeper adjacent
+        // slope) and d from the polyline
+        for i in [400, 700] {
+            let (gp, gm) = gaps(&model, &state, row, i);
+            assert!(
+                (gp - d).abs() <= 1e-9 * d && (gm - d).abs() <= 1e-9 * d,
+                "column {i}: {gp}, {gm}"
+            );
+        }
+        let slope = |k: usize| {
+            let (a, b) = (
+                model.grid.x0[row.minus[k] as usize],
+                model.grid.x0[row.minus[k + 1] as usize],
+            );
+            ((b.y - a.y) / (b.x - a.x)).abs()
+        };
+        for i in (120..260).chain(490..630) {
+            let lower = d / (1.0 + slope(i - 1).max(slope(i)).powi(2)).sqrt();
+            let (gp, gm) = gaps(&model, &state, row, i);
+            for g in [gp, gm] {
+                assert!(
+                    g >= lower * (1.0 - 1e-6) && g <= d * (1.0 + 1e-6),
+                    "column {i}: {g} not in [{lower}, {d}]"
+                );
+            }
+        }
+        // pushed through instead: negative on both sides
+        for &n in &row.plus {
+            state.u[n as usize] = Vector2::new(0.0, -d);
+        }
+        let (gp, gm) = gaps(&model, &state, row, 200);
+        assert!(gp < 0.0 && gm < 0.0, "{gp}, {gm}");
     }
 }

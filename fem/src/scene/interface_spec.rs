@@ -127,11 +127,18 @@ pub(crate) fn zones_and_surface(f: &RawFem) -> Result<(Vec<InterfaceZone>, Conta
     Ok((zones, surface))
 }
 
+/// Whether x [m] lies in [x₀, x₁], ends included up to 1e-12 m: a facet midpoint that falls on
+/// a range end (2.5a = 312.5 mm is mid-element at h = 1 mm) is inside whatever its round-off.
+pub(crate) fn in_range(x: f64, [x0, x1]: [f64; 2]) -> bool {
+    const EPS: f64 = 1e-12;
+    x >= x0 - EPS && x <= x1 + EPS
+}
+
 /// Index of the zone containing x [m] (1-based: 0 is the `[interface]` law).
 pub(crate) fn zone_of(zones: &[InterfaceZone], x: f64) -> usize {
     zones
         .iter()
-        .position(|z| x >= z.x_range[0] && x <= z.x_range[1])
+        .position(|z| in_range(x, z.x_range))
         .map_or(0, |k| k + 1)
 }
 
