@@ -15,17 +15,28 @@ pub(crate) struct BoundaryData {
     pub neumann: Vec<BoundaryDof>,
 }
 
+/// Optional terms of the Westergaard boundary field.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct FieldTerms {
+    /// u_x −= ν x σ_yy/(2G): the normal load becomes uniaxial stress (cases.md, default on).
+    pub lateral: bool,
+    /// u_y += [(1 − 2ν) Im ψ − y Re ψ']/(2G): the mode-II part of u_y that (C.9) drops; with it
+    /// the shear part is an exact elastic field (fem-method §7; default off, as cases.md).
+    pub mode_ii_uy: bool,
+}
+
 /// Westergaard field per unit load, fem-method §7: returns (u for σ_xy^∞ = 1, u for σ_yy^∞ = 1) [m/Pa]
 /// at (x, y) relative to the crack centre, with r(z) = √(z − a)·√(z + a) (principal roots),
 /// ψ = i σ_xy (z − r), ψ' = i σ_xy (1 − z/r),
-/// 2G u_x = 2(1−ν) Re ψ − y Im ψ' + 2 y σ_xy − ν x σ_yy (last term if `lateral`), 2G u_y = (1−ν) y σ_yy.
+/// 2G u_x = 2(1−ν) Re ψ − y Im ψ' + 2 y σ_xy − ν x σ_yy (last term if `lateral`),
+/// 2G u_y = (1−ν) y σ_yy + [(1 − 2ν) Im ψ − y Re ψ'] (bracket if `mode_ii_uy`).
 pub(crate) fn westergaard_unit(
     x: f64,
     y: f64,
     a: f64,
     nu: f64,
     g: f64,
-    lateral: bool,
+    terms: FieldTerms,
 ) -> (Vector2<f64>, Vector2<f64>) {
     let z = Complex::new(x, y);
     let r = (z - a).sqrt() * (z + a).sqrt();
@@ -33,9 +44,17 @@ pub(crate) fn westergaard_unit(
     let psi = i * (z - r);
     let dpsi = i * (Complex::new(1.0, 0.0) - z / r);
     let ux_shear = (2.0 * (1.0 - nu) * psi.re - y * dpsi.im + 2.0 * y) / (2.0 * g);
-    let ux_normal = if lateral { -nu * x / (2.0 * g) } else { 0.0 };
+    let uy_shear = if terms.mode_ii_uy {
+        ((1.0 - 2.0 * nu) * psi.im - y * dpsi.re) / (2.0 * g)
+    } else {
+        0.0
+    };
+    let ux_normal = if terms.lateral { -nu * x / (2.0 * g) } else { 0.0 };
     let uy_normal = (1.0 - nu) * y / (2.0 * g);
-    (Vector2::new(ux_shear, 0.0), Vector2::new(ux_normal, uy_normal))
+    (
+        Vector2::new(ux_shear, uy_shear),
+        Vector2::new(ux_normal, uy_normal),
+    )
 }
 
 /// Builds the boundary data of a scene on a grid.
@@ -65,7 +84,11 @@ fn westergaard(scene: &Scene, grid: &Grid) -> BoundaryData {
                 _ => 1e-12 * a,
             };
         }
-        let (us, un) = westergaard_unit(x, y, a, nu, g, scene.fem.lateral_contraction);
+        let terms = FieldTerms {
+            lateral: scene.fem.lateral_contraction,
+            mode_ii_uy: scene.fem.mode_ii_uy,
+        };
+        let (us, un) = westergaard_unit(x, y, a, nu, g, terms);
         for dof in 0..2u8 {
             let d = dof as usize;
             prescribed.push(BoundaryDof {
@@ -169,10 +192,15 @@ fn sidewise(b: &BoundarySpec, grid: &Grid) -> BoundaryData {
 mod tests {
     use super::*;
 
+    const CASES_MD: FieldTerms = FieldTerms {
+        lateral: true,
+        mode_ii_uy: false,
+    };
+
     #[test]
     fn far_field_is_simple_shear_and_uniaxial_stress() {
         let (nu, g) = (0.35, 25.926e6);
-        let (us, un) = westergaard_unit(1e4, 2e3, 0.125, nu, g, true);
+        let (us, un) = westergaard_unit(1e4, 2e3, 0.125, nu, g, CASES_MD);
         assert!((us.x - 2e3 / g).abs() < 1e-6 * 2e3 / g);
         assert!((un.x + nu * 1e4 / (2.0 * g)).abs() < 1e-12);
     }
@@ -180,13 +208,44 @@ mod tests {
     #[test]
     fn crack_face_slip_is_mode_two_solution() {
         let (nu, g, a, x) = (0.35, 25.926e6, 0.125, 0.05);
-        let (up, _) = westergaard_unit(x, 1e-12 * a, a, nu, g, true);
-        let (um, _) = westergaard_unit(x, -1e-12 * a, a, nu, g, true);
+        let (up, _) = westergaard_unit(x, 1e-12 * a, a, nu, g, CASES_MD);
+        let (um, _) = westergaard_unit(x, -1e-12 * a, a, nu, g, CASES_MD);
         let expect = 2.0 * (1.0 - nu) * (a * a - x * x).sqrt() / g;
         assert!(
             ((up.x - um.x) - expect).abs() < 1e-9 * expect,
             "{} vs {expect}",
             up.x - um.x
         );
+    }
+
+    /// Navier residual |(λ+G)∇(∇·u) + G∇²u| of the shear part at (x, y), relative to the size of
+    /// its two terms, by central differences of step δ.
+    fn navier_residual(x: f64, y: f64, terms: FieldTerms) -> f64 {
+        let (nu, g, a) = (0.35, 25.926e6, 0.125);
+        let lambda = 2.0 * g * nu / (1.0 - 2.0 * nu);
+        let d = 1e-3 * a;
+        let u = |dx: f64, dy: f64| westergaard_unit(x + dx, y + dy, a, nu, g, terms).0;
+        let lap = (u(d, 0.0) + u(-d, 0.0) + u(0.0, d) + u(0.0, -d) - 4.0 * u(0.0, 0.0)) / (d * d);
+        let uxx = (u(d, 0.0) - 2.0 * u(0.0, 0.0) + u(-d, 0.0)) / (d * d);
+        let uyy = (u(0.0, d) - 2.0 * u(0.0, 0.0) + u(0.0, -d)) / (d * d);
+        let uxy = (u(d, d) - u(d, -d) - u(-d, d) + u(-d, -d)) / (4.0 * d * d);
+        // ∇(∇·u) = (∂xx u_x + ∂xy u_y, ∂xy u_x + ∂yy u_y)
+        let grad_div = Vector2::new(uxx.x + uxy.y, uxy.x + uyy.y);
+        let (p, q) = ((lambda + g) * grad_div, g * lap);
+        (p + q).norm() / (p.norm() + q.norm())
+    }
+
+    #[test]
+    fn the_shear_field_is_elastic_only_with_its_mode_two_uy() {
+        let full = FieldTerms {
+            lateral: true,
+            mode_ii_uy: true,
+        };
+        for (x, y) in [(0.2, 0.05), (-0.15, -0.08), (0.05, 0.1)] {
+            let (with, without) = (navier_residual(x, y, full), navier_residual(x, y, CASES_MD));
+            // central differences: O(δ²) truncation, δ = 1e-3 a
+            assert!(with < 1e-4, "({x}, {y}): residual {with} with the mode-II u_y");
+            assert!(without > 0.05, "({x}, {y}): residual {without} without it");
+        }
     }
 }

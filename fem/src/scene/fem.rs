@@ -66,6 +66,9 @@ pub struct FemSpec {
     pub eps_t: f64,
     /// Add u_x += −ν (x − x_c) σ_yy/(2G) to the Westergaard field (cases.md).
     pub lateral_contraction: bool,
+    /// Add the mode-II part of u_y, [(1 − 2ν) Im ψ − y Re ψ']/(2G), that (C.9) drops (default
+    /// false, as cases.md): the shear part of the boundary field is then an exact elastic field.
+    pub mode_ii_uy: bool,
     /// Sampling interval of the records [s].
     pub output_interval: f64,
     /// Insertion criterion.
@@ -186,6 +189,7 @@ pub(crate) fn validate_fem(f: &RawFem, crack: Option<&Crack>, duration: f64) -> 
         eps_n,
         eps_t,
         lateral_contraction: f.lateral_contraction.unwrap_or(true),
+        mode_ii_uy: f.mode_ii_uy.unwrap_or(false),
         output_interval: f.output_interval,
         insertion_rule,
         damping,

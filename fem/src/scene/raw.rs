@@ -107,6 +107,7 @@ pub(crate) struct RawFem {
     pub eps_n: Option<f64>,
     pub eps_t: Option<f64>,
     pub lateral_contraction: Option<bool>,
+    pub mode_ii_uy: Option<bool>,
     pub output_interval: f64,
     pub insertion_rule: Option<String>,
     pub damping: Option<String>,
