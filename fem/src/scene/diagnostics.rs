@@ -61,3 +61,60 @@ pub(crate) fn diagnostics(f: &RawFem, duration: f64) -> Result<Diagnostics, Scen
         snapshot_window: window,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::scene::Scene;
+
+    fn sinusoid() -> String {
+        std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../scenes/sinusoidal-interface.toml"
+        ))
+        .unwrap()
+    }
+
+    #[test]
+    fn the_sinusoid_scene_declares_its_diagnostics() {
+        let d = Scene::from_toml_str(&sinusoid()).unwrap().fem.diagnostics;
+        assert_eq!(d.residual_stress_x, Some([0.125, 0.3125]));
+        assert!(d.kkt_metric);
+        assert_eq!(d.snapshot_times, vec![0.03]);
+    }
+
+    #[test]
+    fn bad_diagnostics_name_the_field() {
+        for (from, to, field) in [
+            (
+                "snapshot_times = [0.03]",
+                "snapshot_times = [0.07]",
+                "fem.snapshot_times",
+            ),
+            (
+                "snapshot_times = [0.03]",
+                "snapshot_times = [0.03, 0.02]",
+                "fem.snapshot_times",
+            ),
+            (
+                "residual_stress_x = [0.125, 0.3125]",
+                "residual_stress_x = [0.3, 0.2]",
+                "fem.residual_stress_x",
+            ),
+            (
+                "[[0.0, 0.375], [-0.0625, 0.0625]]",
+                "[[0.0, 0.5], [-0.0625, 0.0625]]",
+                "fem.snapshot_window",
+            ),
+            (
+                "[[0.0, 0.375], [-0.0625, 0.0625]]",
+                "[[0.0, 0.375], [-0.2, 0.0625]]",
+                "fem.snapshot_window",
+            ),
+        ] {
+            let text = sinusoid().replace(from, to);
+            assert_ne!(text, sinusoid(), "{from} not found");
+            let e = Scene::from_toml_str(&text).unwrap_err().to_string();
+            assert!(e.contains(field), "{to}: {e}");
+        }
+    }
+}
