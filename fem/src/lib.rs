@@ -16,6 +16,8 @@ pub mod output;
 pub mod probe;
 pub mod scene;
 pub mod solver;
+#[cfg(test)]
+mod test_scenes;
 
 pub use error::{BuildError, RunError, SceneError};
 pub use law::elastic::WaveSpeeds;

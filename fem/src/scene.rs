@@ -274,11 +274,7 @@ mod tests {
     use super::*;
 
     fn center_crack() -> String {
-        std::fs::read_to_string(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../scenes/center-crack.toml"
-        ))
-        .unwrap()
+        crate::test_scenes::scene_text("center-crack")
     }
 
     #[test]

@@ -254,8 +254,7 @@ mod tests {
     use crate::scene::Scene;
 
     fn sinusoid() -> (Scene, Model, State) {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/sinusoidal-interface.toml");
-        let scene = Scene::from_toml_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let scene = Scene::from_toml_str(&crate::test_scenes::scene_text("sinusoidal-interface")).unwrap();
         let (model, state, _) = crate::build(&scene).unwrap();
         (scene, model, state)
     }

@@ -303,15 +303,10 @@ pub(crate) fn add_facet_faces(surface: &mut DetectionSurface, row: &InterfaceRow
 #[cfg(test)]
 mod tests {
     use crate::scene::Scene;
+    use crate::test_scenes::scene_text;
 
     fn tiny_with(extra: &str) -> Scene {
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../scenes/tiny-fem-center-crack.toml"
-        );
-        let text = std::fs::read_to_string(path)
-            .unwrap()
-            .replace("[fem]\n", &format!("[fem]\n{extra}\n"));
+        let text = scene_text("tiny-fem-center-crack").replace("[fem]\n", &format!("[fem]\n{extra}\n"));
         Scene::from_toml_str(&text).unwrap()
     }
 
@@ -342,11 +337,7 @@ mod tests {
 
     #[test]
     fn bad_polyline_is_refused() {
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../scenes/tiny-fem-center-crack.toml"
-        );
-        let text = std::fs::read_to_string(path).unwrap().replace(
+        let text = scene_text("tiny-fem-center-crack").replace(
             "[fem]\n",
             "[fem]\ninterface_polyline = [[0.01, 0.0], [0.005, 1e-3]]\n",
         );

@@ -67,11 +67,7 @@ mod tests {
     use crate::scene::Scene;
 
     fn sinusoid() -> String {
-        std::fs::read_to_string(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../scenes/sinusoidal-interface.toml"
-        ))
-        .unwrap()
+        crate::test_scenes::scene_text("sinusoidal-interface")
     }
 
     #[test]

@@ -147,11 +147,7 @@ mod tests {
     use crate::scene::{ContactSurface, Scene};
 
     fn sinusoid() -> String {
-        std::fs::read_to_string(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../scenes/sinusoidal-interface.toml"
-        ))
-        .unwrap()
+        crate::test_scenes::scene_text("sinusoidal-interface")
     }
 
     #[test]

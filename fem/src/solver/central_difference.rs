@@ -209,11 +209,7 @@ mod tests {
 
     #[test]
     fn stability_guard_names_the_node() {
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../scenes/tiny-fem-center-crack.toml"
-        );
-        let scene = Scene::from_toml_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let scene = Scene::from_toml_str(&crate::test_scenes::scene_text("tiny-fem-center-crack")).unwrap();
         let (model, mut state, mut ws) = crate::build(&scene).unwrap();
         super::step(&model, &mut state, &mut ws, false).unwrap();
         let interior = model.grid.node(5, 7) as usize;
