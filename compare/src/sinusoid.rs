@@ -224,7 +224,10 @@ pub fn run_study(text: &str, dir: &Path, rep: &dyn Reporter) -> Result<SinusoidR
     let rows: Vec<_> = runs.iter().map(|r| row(&setup, r)).collect();
     files.push(write_rows(&dir.join("sinusoid_summary.csv"), &rows)?);
     files.extend(crate::sinusoid_snapshot::snapshot_figures(dir, &setup, &runs)?);
-    files.extend(crate::sinusoid_figures::time_figures(dir, &setup, &runs)?);
+    let summaries: Vec<SinusoidSummary> = rows.iter().map(|r| r.0.clone()).collect();
+    files.extend(crate::sinusoid_figures::time_figures(
+        dir, &setup, &runs, &summaries,
+    )?);
     Ok(SinusoidReport {
         setup,
         rows,

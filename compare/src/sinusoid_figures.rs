@@ -7,7 +7,7 @@ use crate::figures::{reference, time_curve};
 use crate::output::write_rows;
 use crate::plot::{self, Curve, Dash, Labels, Mark, PALETTE};
 use crate::sinusoid::{ModelRun, Setup};
-use crate::sinusoid_metrics::summarise;
+use crate::sinusoid_metrics::SinusoidSummary;
 use anyhow::Result;
 use plotters::style::{BLACK, RGBColor};
 use serde::Serialize;
@@ -75,11 +75,16 @@ pub fn energy_ratio_rows(setup: &Setup, run: &ModelRun) -> Vec<EnergyRatioRow> {
         .collect()
 }
 
-/// Vertical marks at `time(run)`/T in each run's colour (skipped where NaN).
-fn time_marks(setup: &Setup, runs: &[ModelRun], time: impl Fn(&ModelRun) -> f64) -> Vec<Mark> {
-    runs.iter()
+/// Vertical marks at `time(summary)`/T in each run's colour (skipped where NaN).
+fn time_marks(
+    setup: &Setup,
+    summaries: &[SinusoidSummary],
+    time: impl Fn(&SinusoidSummary) -> f64,
+) -> Vec<Mark> {
+    summaries
+        .iter()
         .enumerate()
-        .map(|(i, r)| (time(r) / setup.duration, PALETTE[i % PALETTE.len()]))
+        .map(|(i, s)| (time(s) / setup.duration, PALETTE[i % PALETTE.len()]))
         .filter(|(t, _)| t.is_finite())
         .map(|(t, c)| Mark::Vertical(t, c))
         .collect()
@@ -100,7 +105,13 @@ fn chart(dir: &Path, name: &str, labels: Labels, curves: &[Curve], marks: &[Mark
 }
 
 /// Draws the time-history figures into `dir`; returns the files written.
-pub fn time_figures(dir: &Path, setup: &Setup, runs: &[ModelRun]) -> Result<Vec<PathBuf>> {
+/// `summaries[i]` is the summary of `runs[i]` (marks of the slip and onset times).
+pub fn time_figures(
+    dir: &Path,
+    setup: &Setup,
+    runs: &[ModelRun],
+    summaries: &[SinusoidSummary],
+) -> Result<Vec<PathBuf>> {
     let big_t = setup.duration;
     let mut files = Vec::new();
     let residual = per_run(runs, |r| {
@@ -117,16 +128,19 @@ pub fn time_figures(dir: &Path, setup: &Setup, runs: &[ModelRun]) -> Result<Vec<
     };
     files.push(chart(dir, "fig12_residual_stress.png", labels, &residual, &[])?);
     files.extend(tips_vs_shear(dir, setup, runs)?);
-    files.extend(energy_ratio(dir, setup, runs)?);
-    files.extend(kkt_figures(dir, setup, runs)?);
+    files.extend(energy_ratio(dir, setup, runs, summaries)?);
+    files.extend(kkt_figures(dir, setup, runs, summaries)?);
     Ok(files)
 }
 
-fn kkt_figures(dir: &Path, setup: &Setup, runs: &[ModelRun]) -> Result<Vec<PathBuf>> {
+fn kkt_figures(
+    dir: &Path,
+    setup: &Setup,
+    runs: &[ModelRun],
+    summaries: &[SinusoidSummary],
+) -> Result<Vec<PathBuf>> {
     let big_t = setup.duration;
-    let slip_marks = time_marks(setup, runs, |r| {
-        summarise(&r.model, &r.out, setup.half_length, setup.element_size, big_t).t_slip_2h
-    });
+    let slip_marks = time_marks(setup, summaries, |s| s.t_slip_2h);
     let share = per_run(runs, |r| {
         r.out
             .kkt
@@ -202,7 +216,12 @@ fn tips_vs_shear(dir: &Path, setup: &Setup, runs: &[ModelRun]) -> Result<Vec<Pat
     ])
 }
 
-fn energy_ratio(dir: &Path, setup: &Setup, runs: &[ModelRun]) -> Result<Vec<PathBuf>> {
+fn energy_ratio(
+    dir: &Path,
+    setup: &Setup,
+    runs: &[ModelRun],
+    summaries: &[SinusoidSummary],
+) -> Result<Vec<PathBuf>> {
     let mut rows = Vec::new();
     let mut curves = Vec::new();
     for (i, r) in runs.iter().enumerate() {
@@ -215,16 +234,7 @@ fn energy_ratio(dir: &Path, setup: &Setup, runs: &[ModelRun]) -> Result<Vec<Path
         curves.push(time_curve(&r.model, pts, i));
         rows.extend(rs);
     }
-    let mut marks = time_marks(setup, runs, |r| {
-        summarise(
-            &r.model,
-            &r.out,
-            setup.half_length,
-            setup.element_size,
-            setup.duration,
-        )
-        .onset
-    });
+    let mut marks = time_marks(setup, summaries, |s| s.onset);
     marks.push(reference(
         KINETIC_RATIO_LIMIT.log10(),
         BLACK,
@@ -313,7 +323,8 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let s = setup();
         let runs = [run("standard", 0.2), run("hybrid", 0.0)];
-        let files = time_figures(&dir, &s, &runs).unwrap();
+        let summaries: Vec<_> = runs.iter().map(|r| crate::sinusoid::row(&s, r).0).collect();
+        let files = time_figures(&dir, &s, &runs, &summaries).unwrap();
         let names: Vec<String> = files
             .iter()
             .map(|f| f.file_name().unwrap().to_string_lossy().into_owned())
