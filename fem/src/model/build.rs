@@ -176,7 +176,7 @@ fn stiffness(grid: &Grid, d: &[[f64; 3]; 3]) -> Result<Stiffness, BuildError> {
             .map_err(|det_j| BuildError::InvertedElement { element: e, det_j })
     };
     if same {
-        return Ok(Stiffness::Shared(Box::new(k_of(0)?)));
+        return Ok(Stiffness::shared(k_of(0)?));
     }
     let width = c0[1].x - c0[0].x;
     let shapes: Option<Vec<Trapezoid>> = (0..grid.num_elements())

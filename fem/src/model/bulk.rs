@@ -15,19 +15,34 @@ const CORNERS: [(f64, f64); 4] = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 
 /// Stiffness storage: one shared K_e for identical rectangles, one per element otherwise.
 #[derive(Debug, Clone)]
 pub(crate) enum Stiffness {
-    /// All elements share this matrix.
-    Shared(Box<Ke>),
+    /// All elements share this matrix; its interior-node stencil is built once with it.
+    Shared(Box<SharedKe>),
     /// One matrix per element.
     PerElement(Vec<Ke>),
     /// Vertical-sided elements of a mapped mesh: forces computed on the fly (`model::mapped`).
     Mapped(Box<crate::model::mapped::MappedStiffness>),
 }
 
+/// A shared K_e and the stencil derived from it.
+#[derive(Debug, Clone)]
+pub(crate) struct SharedKe {
+    ke: Ke,
+    stencil: Stencil,
+}
+
 impl Stiffness {
+    /// One K_e for every element, with its stencil.
+    pub(crate) fn shared(ke: Ke) -> Stiffness {
+        Stiffness::Shared(Box::new(SharedKe {
+            stencil: Stencil::new(&ke),
+            ke,
+        }))
+    }
+
     #[inline]
     fn get(&self, e: usize) -> &Ke {
         match self {
-            Stiffness::Shared(k) => k,
+            Stiffness::Shared(k) => &k.ke,
             Stiffness::PerElement(v) => &v[e],
             Stiffness::Mapped(_) => unreachable!("invariant: mapped meshes never read K_e"),
         }
@@ -145,14 +160,14 @@ pub(crate) fn internal_forces(grid: &Grid, k: &Stiffness, u: &[Vector2<f64>], f:
     let nx = grid.nx;
     let w = nx + 1;
     let stencil = match k {
-        Stiffness::Shared(ke) => Some(Stencil::new(ke)),
+        Stiffness::Shared(k) => Some(&k.stencil),
         Stiffness::PerElement(_) => None,
         Stiffness::Mapped(m) => return crate::model::mapped::internal_forces(grid, m, u, f),
     };
     f.par_chunks_mut(w).enumerate().for_each(|(layer, fl)| {
         let (below, above) = grid.layer_element_rows(layer);
         let generic = |i: usize| node_force(grid, k, below, above, i, u);
-        match &stencil {
+        match stencil {
             Some(st) if nx >= 2 => {
                 fl[0] = generic(0);
                 fl[nx] = generic(nx);
@@ -206,6 +221,7 @@ fn node_force(
 
 /// Interior-node stencil of a shared K_e: per adjacent element row, blocks[layer offset][column offset + 1]
 /// (2×2, row-major) multiplying u of the lower/upper layer of that row.
+#[derive(Debug, Clone)]
 struct Stencil {
     below: [[[f64; 4]; 3]; 2],
     above: [[[f64; 4]; 3]; 2],
@@ -350,7 +366,7 @@ mod tests {
             .map(|n| Vector2::new((n as f64 * 0.37).sin(), (n as f64 * 0.11).cos()) * 1e-3)
             .collect();
         let (mut f1, mut f2) = (vec![Vector2::zeros(); u.len()], vec![Vector2::zeros(); u.len()]);
-        internal_forces(&grid, &Stiffness::Shared(Box::new(k)), &u, &mut f1);
+        internal_forces(&grid, &Stiffness::shared(k), &u, &mut f1);
         internal_forces(
             &grid,
             &Stiffness::PerElement(vec![k; grid.num_elements()]),
