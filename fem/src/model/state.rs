@@ -127,7 +127,7 @@ pub struct State {
     pub(crate) facets: Facets,
     pub(crate) contact: Option<ContactPart>,
     pub(crate) energy: EnergyTotals,
-    /// ū_n per prescribed DOF [m], its velocity [m/s] and the previous reaction [N/m].
+    /// ū_n per prescribed DOF [m], its velocity [m/s] and the previous static reaction −f [N/m].
     pub(crate) presc_u: Vec<f64>,
     pub(crate) presc_v: Vec<f64>,
     pub(crate) presc_r: Vec<f64>,
