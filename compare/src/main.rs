@@ -22,6 +22,8 @@ OPTIONS:
     --out DIR      output folder (default: out/<scene name>/)
     --open M@MU    a metric known to fail and tracked as open (e.g. onset_difference_over_T@0.3):
                    still reported as failing, but it does not set the exit code (repeatable)
+    --factors LIST penalty only: the factors f of eps_n = eps_t = f x E per metre, comma-separated
+                   whole numbers >= 1 (default 100,200,300, the paper's Appendix D)
     -h, --help     this text
 
 For every friction coefficient in [compare].friction_coeffs the FE model and the spectral model
@@ -44,7 +46,7 @@ sweep_error_vs_wall_time.png, and each point's tip history tips_<model>_<h>mm.cs
 (default folder out/<scene name>-sweep/).
 
 penalty: runs the FE model at the scene's [friction].friction_coeff with eps_n = eps_t =
-100, 200, 300 x E per metre; writes penalty_faces.csv (upper-face penetration/2a at t/T = 0.6),
+100, 200, 300 x E per metre (or the --factors given); writes penalty_faces.csv (upper-face penetration/2a at t/T = 0.6),
 penalty_means.csv (mean contact tractions against time), penalty_summary.csv (window means
 against |s_yy| and mu|s_yy|) and the three panels of Figure D.15 (default folder
 out/<scene name>-penalty/).
@@ -76,6 +78,8 @@ struct Args {
     /// Metrics known to fail and tracked as open (`METRIC@MU`): still printed and written as
     /// failing, but they do not set the exit code.
     open: Vec<String>,
+    /// Penalty factors of the penalty study (`--factors`).
+    factors: Vec<u32>,
 }
 
 fn default_scene(file: &str) -> PathBuf {
@@ -93,6 +97,7 @@ fn parse_args() -> Result<Option<Args>> {
         scene: default_scene("center-crack.toml"),
         out: None,
         open: Vec::new(),
+        factors: compare::penalty::EPS_FACTORS.to_vec(),
     };
     let (mut model, mut size) = (None, None);
     let mut it = std::env::args().skip(1).peekable();
@@ -115,6 +120,10 @@ fn parse_args() -> Result<Option<Args>> {
             "--scene" => args.scene = it.next().context("--scene needs a file")?.into(),
             "--out" => args.out = Some(it.next().context("--out needs a folder")?.into()),
             "--open" => args.open.push(it.next().context("--open needs METRIC@MU")?),
+            "--factors" => {
+                args.factors =
+                    parse_factors(&it.next().context("--factors needs a list such as 100,200,300")?)?
+            }
             "--model" => model = Some(it.next().context("--model needs fem or spectral")?),
             "--size" => {
                 size = Some(
@@ -138,6 +147,21 @@ fn parse_args() -> Result<Option<Args>> {
         args.command = Command::SweepPoint(m, h);
     }
     Ok(Some(args))
+}
+
+/// `--factors`: comma-separated whole numbers >= 1, at least one.
+fn parse_factors(list: &str) -> Result<Vec<u32>> {
+    let factors = list
+        .split(',')
+        .map(|f| match f.trim().parse::<u32>() {
+            Ok(v) if v >= 1 => Ok(v),
+            _ => bail!("--factors: `{f}` is not a whole number >= 1 (factor f of eps_n = f x E per metre)"),
+        })
+        .collect::<Result<Vec<u32>>>()?;
+    if factors.is_empty() {
+        bail!("--factors: give at least one factor");
+    }
+    Ok(factors)
 }
 
 struct Bars(MultiProgress);
@@ -226,7 +250,8 @@ fn real_main() -> Result<bool> {
             let out = args
                 .out
                 .unwrap_or_else(|| PathBuf::from("out").join(format!("{stem}-penalty")));
-            let report = compare::penalty::run_study(&text, &out, &Bars(MultiProgress::new()))?;
+            let report =
+                compare::penalty::run_study(&text, &out, &args.factors, &Bars(MultiProgress::new()))?;
             print!("{}", compare::penalty::table(&report.summary));
             println!("\n{} files written to {}", report.files.len(), out.display());
             return Ok(true);
@@ -312,4 +337,18 @@ fn run_sinusoid(text: &str, out: &Path) -> Result<bool> {
         println!("FAILED: {f}");
     }
     Ok(report.failures.is_empty())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_factors;
+
+    #[test]
+    fn factors_are_whole_numbers_of_at_least_one() {
+        assert_eq!(parse_factors("100, 200,300").unwrap(), vec![100, 200, 300]);
+        for bad in ["0", "-5", "2.5", "100,,300", ""] {
+            let e = parse_factors(bad).unwrap_err().to_string();
+            assert!(e.contains("--factors"), "{bad}: {e}");
+        }
+    }
 }
