@@ -34,11 +34,12 @@ pub struct SinusoidSummary {
     pub final_tip_right: f64,
     /// Right cohesive-zone tip at t = T [m].
     pub final_cz_tip_right: f64,
-    /// First time the right crack tip reaches 2.4a: the weak branch has cracked and the crack is
-    /// arrested at the strong interface (2.5a) [s] (NaN: never).
+    /// Time the right crack tip reaches 2.4a: the weak branch has cracked and the crack is
+    /// arrested at the strong interface (2.5a) [s] (NaN: never). From the per-point failure
+    /// times, so exact to the time step rather than to the output interval.
     pub t_weak_cracked: f64,
-    /// First time the right crack tip passes 2.5a + 0.08a (l_p of the strong interface): the
-    /// crack has entered the strong interface [s] (NaN: never).
+    /// Time the right crack tip passes 2.5a + 0.08a (l_p of the strong interface): the crack has
+    /// entered the strong interface [s] (NaN: never). Exact to the time step, as above.
     pub t_strong_entered: f64,
 }
 
@@ -55,6 +56,21 @@ pub fn mean_residual_stress(out: &RunOutput, t0: f64, t1: f64) -> f64 {
     } else {
         v.iter().sum::<f64>() / v.len() as f64
     }
+}
+
+/// Time [s] the right crack tip (fem-method §8: every interface point from the pre-crack tip on
+/// fully broken) passes x > a: the latest full-failure time of the points with a < x_q ≤ x (NaN
+/// if one of them never fails). Pre-crack centred at 0, as in the Section 4 scene.
+pub fn tip_passes(out: &RunOutput, a: f64, x: f64) -> f64 {
+    out.arrivals
+        .iter()
+        .filter(|r| r.x > a && r.x <= x)
+        .map(|r| r.failure_time)
+        .try_fold(f64::NEG_INFINITY, |m: f64, t: f64| {
+            (!t.is_nan()).then_some(m.max(t))
+        })
+        .filter(|t| t.is_finite())
+        .unwrap_or(f64::NAN)
 }
 
 /// Computes the summary; `a` is the pre-crack half-length [m], `h` the element size [m], `duration` T [s].
@@ -90,12 +106,6 @@ pub fn summarise(model: &str, out: &RunOutput, a: f64, h: f64, duration: f64) ->
         .map(|e| e.kinetic / e.strain)
         .fold(f64::NAN, f64::max);
     let last_tip = out.tips.last();
-    let first_tip_past = |x: f64| {
-        out.tips
-            .iter()
-            .find(|r| r.tip_right >= x)
-            .map_or(f64::NAN, |r| r.t)
-    };
     SinusoidSummary {
         model: model.to_string(),
         max_kkt_share: fmax(&mut out.kkt.iter().map(|r| r.violating_share)),
@@ -115,7 +125,42 @@ pub fn summarise(model: &str, out: &RunOutput, a: f64, h: f64, duration: f64) ->
         max_kinetic_over_internal_after_onset: ratio,
         final_tip_right: last_tip.map_or(f64::NAN, |r| r.tip_right),
         final_cz_tip_right: last_tip.map_or(f64::NAN, |r| r.cz_tip_right),
-        t_weak_cracked: first_tip_past(2.4 * a),
-        t_strong_entered: first_tip_past(2.58 * a),
+        t_weak_cracked: tip_passes(out, a, 2.4 * a),
+        t_strong_entered: tip_passes(out, a, 2.58 * a),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::tip_passes;
+    use fem::{ArrivalRecord, RunOutput};
+
+    fn point(x: f64, failure_time: f64) -> ArrivalRecord {
+        ArrivalRecord {
+            x,
+            insertion_time: f64::NAN,
+            failure_time,
+            work_density: 0.0,
+        }
+    }
+
+    #[test]
+    fn the_tip_passes_x_when_every_point_from_the_pre_crack_tip_to_x_has_failed() {
+        let a = 1.0;
+        let out = RunOutput {
+            arrivals: vec![
+                point(-1.5, 9.0),     // left branch: ignored
+                point(0.5, f64::NAN), // pre-crack: never inserted, ignored
+                point(1.1, 2.0),
+                point(1.2, 1.5), // failed before its left neighbour: the tip waits for 1.1
+                point(1.3, 3.0),
+                point(1.4, f64::NAN),
+            ],
+            ..RunOutput::default()
+        };
+        assert_eq!(tip_passes(&out, a, 1.2), 2.0);
+        assert_eq!(tip_passes(&out, a, 1.3), 3.0);
+        assert!(tip_passes(&out, a, 1.45).is_nan(), "1.4 never failed");
+        assert!(tip_passes(&out, a, 1.05).is_nan(), "no point in (a, x]");
     }
 }
