@@ -2,9 +2,11 @@
 //! stable-step formula needed to check a requested step.
 
 mod boundary;
+mod checks;
 mod diagnostics;
 mod fem;
 mod interface_spec;
+mod problem;
 mod raw;
 
 pub use boundary::{BoundaryComponent, BoundaryKind, BoundarySpec};
@@ -12,67 +14,13 @@ pub use diagnostics::Diagnostics;
 pub use fem::{DampingSet, FemSpec, InsertionRule, ModelKind};
 pub use interface_spec::{ContactSurface, InterfaceZone};
 pub(crate) use interface_spec::{in_range, zone_of};
+pub use problem::{Crack, Loading, Ramp};
 
 use crate::error::SceneError;
 use crate::law::cohesive::LinearCohesive;
 use crate::law::elastic::{PlaneStrain, WaveSpeeds};
+use checks::check;
 use raw::{RawRamp, RawScene};
-
-/// A ramp through the quintic smoothstep of paper eq. (B.1):
-/// value(t) = initial + (final − initial) S((t − t₀)/(t₁ − t₀)), S(s) = s³(10 − 15s + 6s²).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Ramp {
-    /// Value before the ramp (unit of the quantity: [Pa] or [m]).
-    pub initial: f64,
-    /// Value after the ramp (same unit).
-    pub final_value: f64,
-    /// Ramp start t₀ [s].
-    pub ramp_start: f64,
-    /// Ramp end t₁ [s] (t₁ = t₀ gives a step).
-    pub ramp_end: f64,
-}
-
-impl Ramp {
-    /// A constant zero.
-    pub const ZERO: Ramp = Ramp {
-        initial: 0.0,
-        final_value: 0.0,
-        ramp_start: 0.0,
-        ramp_end: 0.0,
-    };
-
-    /// Value at time t [s].
-    pub fn value(&self, t: f64) -> f64 {
-        let s = if self.ramp_end > self.ramp_start {
-            ((t - self.ramp_start) / (self.ramp_end - self.ramp_start)).clamp(0.0, 1.0)
-        } else if t >= self.ramp_start {
-            1.0
-        } else {
-            0.0
-        };
-        self.initial + (self.final_value - self.initial) * s * s * s * (10.0 - 15.0 * s + 6.0 * s * s)
-    }
-}
-
-/// Pre-crack on the row y = 0: |x − center_x| < half_length.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Crack {
-    /// Half length a [m].
-    pub half_length: f64,
-    /// Centre x_c [m].
-    pub center_x: f64,
-}
-
-/// Far-field loading: duration and the two stress histories (paper Section 3, cases.md).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Loading {
-    /// Run duration T [s].
-    pub duration: f64,
-    /// Far-field normal stress σ_yy^∞(t) [Pa] (tension positive).
-    pub normal: Ramp,
-    /// Far-field shear stress σ_xy^∞(t) [Pa].
-    pub shear: Ramp,
-}
 
 /// A validated scene.
 #[derive(Debug, Clone)]
@@ -93,6 +41,9 @@ pub struct Scene {
     pub fem: FemSpec,
     /// Time step of the run [s].
     time_step: f64,
+    /// The form the scene was read from: a variant ([`Scene::with_friction_coeff`], ...) edits
+    /// it and validates it again, so a variant is checked exactly like a file.
+    raw: RawScene,
 }
 
 impl Scene {
@@ -100,6 +51,41 @@ impl Scene {
     pub fn from_toml_str(text: &str) -> Result<Scene, SceneError> {
         let raw: RawScene = toml::from_str(text).map_err(|e| SceneError::Parse(e.to_string()))?;
         validate(raw)
+    }
+
+    /// The same scene with another edit of its raw form, validated again.
+    fn variant(&self, edit: impl FnOnce(&mut RawScene)) -> Result<Scene, SceneError> {
+        let mut raw = self.raw.clone();
+        edit(&mut raw);
+        validate(raw)
+    }
+
+    /// The same scene with Coulomb coefficient μ [-] on the crack faces.
+    pub fn with_friction_coeff(&self, friction_coeff: f64) -> Result<Scene, SceneError> {
+        self.variant(|r| r.friction = Some(raw::RawFriction { friction_coeff }))
+    }
+
+    /// The same scene run with the hybrid or the standard model (paper Section 4).
+    pub fn with_model(&self, model: ModelKind) -> Result<Scene, SceneError> {
+        let name = match model {
+            ModelKind::Hybrid => "hybrid",
+            ModelKind::Standard => "standard",
+        };
+        self.variant(|r| r.fem.model = Some(name.to_string()))
+    }
+
+    /// The same scene meshed with element size h [m] (the time step follows unless the scene
+    /// fixes `fem.time_step`).
+    pub fn with_element_size(&self, element_size: f64) -> Result<Scene, SceneError> {
+        self.variant(|r| r.fem.element_size = element_size)
+    }
+
+    /// The same scene with contact penalties ε_n, ε_t [Pa/m] (the stable step follows, eq. 12).
+    pub fn with_penalties(&self, eps_n: f64, eps_t: f64) -> Result<Scene, SceneError> {
+        self.variant(|r| {
+            r.fem.eps_n = Some(eps_n);
+            r.fem.eps_t = Some(eps_t);
+        })
     }
 
     /// Time step the run will use [s].
@@ -146,18 +132,6 @@ impl Scene {
             0.0
         };
         crate::law::elastic::stable_time_step(fem::MAX_SAFETY, h, self.wave_speeds().cd, beta_p)
-    }
-}
-
-pub(crate) fn check(field: &'static str, value: f64, ok: bool, allowed: &str) -> Result<f64, SceneError> {
-    if ok && value.is_finite() {
-        Ok(value)
-    } else {
-        Err(SceneError::OutOfRange {
-            field,
-            value,
-            allowed: allowed.to_string(),
-        })
     }
 }
 
@@ -215,6 +189,7 @@ fn crack(c: &raw::RawCrack) -> Result<Crack, SceneError> {
 }
 
 fn validate(raw: RawScene) -> Result<Scene, SceneError> {
+    let kept = raw.clone();
     let material = material(&raw.material)?;
     let interface = raw.interface.as_ref().map(interface).transpose()?;
     let crack = raw.crack.as_ref().map(crack).transpose()?;
@@ -242,6 +217,7 @@ fn validate(raw: RawScene) -> Result<Scene, SceneError> {
         loading,
         fem,
         time_step: 0.0,
+        raw: kept,
     };
     if !scene.fem.interface_zones.is_empty() && scene.interface.is_none() {
         return Err(SceneError::Geometry(
@@ -322,5 +298,34 @@ mod tests {
         assert!(e.contains("fem.model"), "{e}");
         let text = center_crack().replace("[fem]", "[fem]\nunknown_key = 1");
         assert!(Scene::from_toml_str(&text).is_err());
+    }
+
+    #[test]
+    fn variants_are_validated_like_the_file() {
+        let s = Scene::from_toml_str(&center_crack()).unwrap();
+        let v = s.with_friction_coeff(0.0).unwrap();
+        assert_eq!(v.friction_coeff, 0.0);
+        assert_eq!(v.time_step(), s.time_step());
+        let e = s.with_friction_coeff(100.0).unwrap_err().to_string();
+        assert!(e.contains("friction.friction_coeff") && e.contains("100"), "{e}");
+        // a stiffer penalty lowers the stable step (eq. 12)
+        let stiff = s.with_penalties(1000.0 * 70e6, 1000.0 * 70e6).unwrap();
+        assert_eq!(stiff.fem.eps_n, 7e10);
+        assert!(stiff.time_step() < s.time_step());
+        let fine = s.with_element_size(0.5e-3).unwrap();
+        // Δt ∝ h f(β_p) with β_p = ε_n h/E (eq. 12): 300 E at h = 0.5 mm gives β_p = 0.15
+        let pf = crate::law::elastic::penalty_factor;
+        let expect = 0.5 * pf(0.15) / pf(0.3);
+        assert!((fine.time_step() / s.time_step() - expect).abs() < 1e-12);
+        assert!(
+            s.with_element_size(0.7e-3).is_err(),
+            "0.7 mm does not fit the domain"
+        );
+        let standard = s.with_model(ModelKind::Standard).unwrap();
+        assert_eq!(standard.fem.model, ModelKind::Standard);
+        assert_eq!(
+            standard.with_model(ModelKind::Hybrid).unwrap().fem.model,
+            ModelKind::Hybrid
+        );
     }
 }

@@ -52,7 +52,7 @@ pub struct Nucleation {
     pub half_width: f64,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawScene {
     #[allow(dead_code)]
@@ -69,7 +69,7 @@ struct RawScene {
     compare: Option<toml::Value>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawMaterial {
     youngs_modulus: f64,
@@ -77,7 +77,7 @@ struct RawMaterial {
     density: f64,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawInterface {
     sigma_c: f64,
@@ -86,20 +86,20 @@ struct RawInterface {
     kappa: f64,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawCrack {
     half_length: f64,
     center_x: f64,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawFriction {
     friction_coeff: f64,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawLoading {
     duration: f64,
@@ -107,7 +107,7 @@ struct RawLoading {
     shear: Ramp,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawSpectral {
     length: f64,
@@ -178,6 +178,9 @@ pub struct Scene {
     pub contact: bool,
     /// Optional nucleation perturbation of s_xy.
     pub nucleation: Option<Nucleation>,
+    /// The form the scene was read from: a variant ([`Scene::with_friction_coeff`], ...) edits
+    /// it and validates it again, so a variant is checked exactly like a file.
+    raw: RawScene,
 }
 
 fn check(field: &'static str, value: f64, ok: bool, allowed: &'static str) -> Result<(), SceneError> {
@@ -204,6 +207,32 @@ impl Scene {
     pub fn from_toml_str(text: &str) -> Result<Scene, SceneError> {
         let raw: RawScene = toml::from_str(text)?;
         validate(raw)
+    }
+
+    /// The same scene with another edit of its raw form, validated again.
+    fn variant(&self, edit: impl FnOnce(&mut RawScene)) -> Result<Scene, SceneError> {
+        let mut raw = self.raw.clone();
+        edit(&mut raw);
+        validate(raw)
+    }
+
+    /// The same scene with Coulomb coefficient μ [-] on contacting broken points.
+    pub fn with_friction_coeff(&self, friction_coeff: f64) -> Result<Scene, SceneError> {
+        self.variant(|r| r.friction.friction_coeff = friction_coeff)
+    }
+
+    /// The same scene stepped with Δt [s] (replaces `cs_dt_over_dx`; paper §3.2 runs the spectral
+    /// model at the FE model's step). Refused where c_s Δt/Δx leaves (0, 0.5].
+    pub fn with_time_step(&self, time_step: f64) -> Result<Scene, SceneError> {
+        self.variant(|r| {
+            r.spectral.cs_dt_over_dx = None;
+            r.spectral.time_step = Some(time_step);
+        })
+    }
+
+    /// The same scene on N grid points [-] (even).
+    pub fn with_grid_points(&self, grid_points: usize) -> Result<Scene, SceneError> {
+        self.variant(|r| r.spectral.grid_points = i64::try_from(grid_points).unwrap_or(i64::MAX))
     }
 
     /// Shear modulus μ = E/(2(1+ν)) [Pa].
@@ -271,6 +300,7 @@ pub fn rayleigh_ratio(eta: f64) -> f64 {
 }
 
 fn validate(r: RawScene) -> Result<Scene, SceneError> {
+    let raw = r.clone();
     let m = &r.material;
     check(
         "material.youngs_modulus",
@@ -420,6 +450,7 @@ fn validate(r: RawScene) -> Result<Scene, SceneError> {
         fast_tolerance,
         contact: s.contact.unwrap_or(true),
         nucleation: s.nucleation,
+        raw,
     })
 }
 

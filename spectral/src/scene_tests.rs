@@ -44,3 +44,20 @@ fn unknown_key_is_refused() {
     let text = SCENE.replace("[crack]", "[crack]\nwidth = 1.0");
     assert!(Scene::from_toml_str(&text).is_err());
 }
+
+#[test]
+fn variants_are_validated_like_the_file() {
+    let s = Scene::from_toml_str(SCENE).unwrap();
+    let v = s.with_friction_coeff(0.0).unwrap();
+    assert_eq!(v.friction_coeff, 0.0);
+    assert!(s.with_friction_coeff(-1.0).is_err());
+    let dt = 1.53e-6;
+    let v = s.with_time_step(dt).unwrap();
+    assert!((v.time_step() - dt).abs() < 1e-18);
+    let e = s.with_time_step(1e-4).unwrap_err().to_string();
+    assert!(e.contains("spectral.time_step"), "{e}");
+    let v = s.with_grid_points(2048).unwrap();
+    assert_eq!(v.grid_points, 2048);
+    assert!((v.grid_spacing() - 2.0 * s.grid_spacing()).abs() < 1e-15);
+    assert!(s.with_grid_points(3).is_err());
+}

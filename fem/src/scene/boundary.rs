@@ -1,8 +1,9 @@
 //! Side-wise boundary conditions of `[fem.boundary]`: per side and component, an imposed
 //! displacement [m] or traction [Pa] through the ramp of eq. (B.1).
 
+use super::checks::{check, option};
+use super::problem::Ramp;
 use super::raw::{RawBoundaryComponent, RawSide};
-use super::{Ramp, check};
 use crate::error::SceneError;
 
 /// Kind of a boundary condition component.
@@ -32,7 +33,7 @@ pub struct BoundarySpec {
 }
 
 fn component(field: &'static str, c: &RawBoundaryComponent) -> Result<BoundaryComponent, SceneError> {
-    let kind = super::fem::option(
+    let kind = option(
         field,
         Some(&c.kind),
         BoundaryKind::Displacement,

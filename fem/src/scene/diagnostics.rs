@@ -1,7 +1,7 @@
 //! `[fem]` keys of the Section 4 diagnostics: residual stress (paper eq. 17), the KKT-violation
 //! metric and stress snapshots (Figures 10-11). Each is computed only when declared.
 
-use super::check;
+use super::checks::check;
 use super::raw::RawFem;
 use crate::error::SceneError;
 

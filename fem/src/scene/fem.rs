@@ -1,10 +1,11 @@
 //! The `[fem]` section: discretisation, model options, boundary conditions.
 
 use super::boundary::{BoundarySpec, side};
+use super::checks::{check, option};
 use super::diagnostics::{Diagnostics, diagnostics};
 use super::interface_spec::{ContactSurface, InterfaceZone, sine_polyline, zones_and_surface};
+use super::problem::Crack;
 use super::raw::RawFem;
-use super::{Crack, check};
 use crate::error::SceneError;
 
 /// Largest allowed safety factor α of the stable step (fem-method §2, §10.11).
@@ -96,25 +97,6 @@ pub struct FemSpec {
     pub probes: Vec<[f64; 2]>,
     /// Side-wise boundary conditions; `None`: Westergaard displacements on the whole boundary.
     pub boundary: Option<BoundarySpec>,
-}
-
-pub(crate) fn option<T: Copy>(
-    field: &'static str,
-    value: Option<&String>,
-    default: T,
-    table: &[(&str, T)],
-    allowed: &'static str,
-) -> Result<T, SceneError> {
-    let Some(v) = value else { return Ok(default) };
-    table
-        .iter()
-        .find(|(k, _)| *k == v.as_str())
-        .map(|(_, t)| *t)
-        .ok_or_else(|| SceneError::BadOption {
-            field,
-            value: v.clone(),
-            allowed,
-        })
 }
 
 fn is_multiple(length: f64, h: f64) -> bool {

@@ -2,8 +2,7 @@
 //! (`interface_sine`), stretches with their own cohesive law (`interface_zones`) and which faces
 //! join the contact detection surface (`contact_surface`, paper eqs. (10) and (16)).
 
-use super::check;
-use super::fem::option;
+use super::checks::{check, option};
 use super::raw::{RawFem, RawSine, RawZone};
 use crate::error::SceneError;
 use crate::law::cohesive::LinearCohesive;

@@ -2,7 +2,7 @@
 
 use serde::Deserialize;
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawScene {
     pub name: Option<String>,
@@ -20,7 +20,7 @@ pub(crate) struct RawScene {
     pub compare: Option<toml::Value>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawMaterial {
     pub youngs_modulus: f64,
@@ -28,7 +28,7 @@ pub(crate) struct RawMaterial {
     pub density: f64,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawInterface {
     pub sigma_c: f64,
@@ -37,14 +37,14 @@ pub(crate) struct RawInterface {
     pub kappa: f64,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawCrack {
     pub half_length: f64,
     pub center_x: f64,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawFriction {
     pub friction_coeff: f64,
@@ -60,7 +60,7 @@ pub(crate) struct RawRamp {
     pub ramp_end: f64,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawLoading {
     pub duration: f64,

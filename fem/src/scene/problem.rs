@@ -1,0 +1,58 @@
+//! The shared problem of a scene as typed values: load ramps (paper eq. B.1), the pre-crack and
+//! the far-field loading. Plain data; validated in `scene.rs`.
+
+/// A ramp through the quintic smoothstep of paper eq. (B.1):
+/// value(t) = initial + (final − initial) S((t − t₀)/(t₁ − t₀)), S(s) = s³(10 − 15s + 6s²).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ramp {
+    /// Value before the ramp (unit of the quantity: [Pa] or [m]).
+    pub initial: f64,
+    /// Value after the ramp (same unit).
+    pub final_value: f64,
+    /// Ramp start t₀ [s].
+    pub ramp_start: f64,
+    /// Ramp end t₁ [s] (t₁ = t₀ gives a step).
+    pub ramp_end: f64,
+}
+
+impl Ramp {
+    /// A constant zero.
+    pub const ZERO: Ramp = Ramp {
+        initial: 0.0,
+        final_value: 0.0,
+        ramp_start: 0.0,
+        ramp_end: 0.0,
+    };
+
+    /// Value at time t [s].
+    pub fn value(&self, t: f64) -> f64 {
+        let s = if self.ramp_end > self.ramp_start {
+            ((t - self.ramp_start) / (self.ramp_end - self.ramp_start)).clamp(0.0, 1.0)
+        } else if t >= self.ramp_start {
+            1.0
+        } else {
+            0.0
+        };
+        self.initial + (self.final_value - self.initial) * s * s * s * (10.0 - 15.0 * s + 6.0 * s * s)
+    }
+}
+
+/// Pre-crack on the row y = 0: |x − center_x| < half_length.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Crack {
+    /// Half length a [m].
+    pub half_length: f64,
+    /// Centre x_c [m].
+    pub center_x: f64,
+}
+
+/// Far-field loading: duration and the two stress histories (paper Section 3, cases.md).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Loading {
+    /// Run duration T [s].
+    pub duration: f64,
+    /// Far-field normal stress σ_yy^∞(t) [Pa] (tension positive).
+    pub normal: Ramp,
+    /// Far-field shear stress σ_xy^∞(t) [Pa].
+    pub shear: Ramp,
+}
