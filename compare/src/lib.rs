@@ -1,23 +1,16 @@
 //! FE-versus-spectral comparison harness: runs both models on one scene, lines their crack-tip
 //! histories up the way the paper does (Figures 5–8), measures agreement against fixed
-//! tolerances, writes CSV and PNG.
+//! tolerances, writes CSV and PNG. One module folder per study over a shared reading of the
+//! scene ([`study`]), running of the models ([`runner`]) and plotting ([`plot`]).
 
-pub mod align;
-pub mod contact_windows;
-pub mod contour;
-pub mod fem_figures;
-pub mod figures;
+pub mod converged;
 pub mod gate;
-pub mod metrics;
-pub mod models;
 pub mod output;
 pub mod penalty;
-pub mod penalty_figures;
 pub mod plot;
-pub mod scene;
+pub mod quasi_static;
+pub mod runner;
+pub mod series;
 pub mod sinusoid;
-pub mod sinusoid_contact;
-pub mod sinusoid_figures;
-pub mod sinusoid_metrics;
-pub mod sinusoid_snapshot;
+pub mod study;
 pub mod sweep;

@@ -1,7 +1,6 @@
-//! CSV files of the harness, with the exact names and headers the README documents.
+//! CSV files of the harness, with the exact names and headers docs/outputs.md documents.
 
-use crate::align::TipRow;
-use crate::metrics::Verdict;
+use crate::series::TipRow;
 use anyhow::{Context, Result};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -24,11 +23,6 @@ pub fn write_rows<R: Serialize>(path: &Path, rows: &[R]) -> Result<PathBuf> {
 /// `<model>_mu<μ>.csv` with header `t,tip_right,tip_left,cz_tip_right,cz_tip_left`.
 pub fn write_tips(dir: &Path, model: &str, mu: f64, rows: &[TipRow]) -> Result<PathBuf> {
     write_rows(&dir.join(format!("{model}_mu{}.csv", mu_tag(mu))), rows)
-}
-
-/// `metrics.csv` with header `metric,mu,value,tolerance,pass`.
-pub fn write_metrics(dir: &Path, verdicts: &[Verdict]) -> Result<PathBuf> {
-    write_rows(&dir.join("metrics.csv"), verdicts)
 }
 
 #[cfg(test)]
@@ -58,14 +52,5 @@ mod tests {
                 .unwrap()
                 .ends_with("spectral_mu0.3.csv")
         );
-        let v = Verdict {
-            metric: "m",
-            mu: "0.3".into(),
-            value: 0.5,
-            tolerance: "<= 1".into(),
-            pass: true,
-        };
-        let text = std::fs::read_to_string(write_metrics(&dir, &[v]).unwrap()).unwrap();
-        assert!(text.starts_with("metric,mu,value,tolerance,pass\n"), "{text}");
     }
 }

@@ -61,7 +61,7 @@ pub struct ContactMeanRecord {
 }
 
 /// Energies [J/m] (fem-method §8), measured from t = 0.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Default, Serialize)]
 pub struct EnergyRecord {
     /// Time [s].
     pub t: f64,

@@ -17,10 +17,37 @@ pub fn scene_text(name: &str) -> String {
 }
 
 /// Returns `text` with dotted keys (`"fem.eps_n"`) set to new values; a `None` value removes the key.
-/// Intermediate tables are created when missing. (The harness's own edit, so tests vary scenes
-/// exactly the way `compare` does.)
+/// Intermediate tables are created when missing. The tests vary the small scenes this way; the
+/// harness itself derives its runs from typed scenes instead.
 pub fn with_overrides(text: &str, overrides: &[(&str, Option<toml::Value>)]) -> String {
-    compare::scene::with_overrides(text, overrides).unwrap_or_else(|e| panic!("scene override: {e:#}"))
+    let mut table: toml::Table = text.parse().unwrap_or_else(|e| panic!("scene is not TOML: {e}"));
+    for (key, value) in overrides {
+        let mut parts: Vec<&str> = key.split('.').collect();
+        let last = parts.pop().expect("invariant: split yields at least one part");
+        let mut t = &mut table;
+        for p in parts {
+            t = t
+                .entry(p)
+                .or_insert_with(|| toml::Value::Table(toml::Table::new()))
+                .as_table_mut()
+                .unwrap_or_else(|| panic!("override {key}: `{p}` is not a table"));
+        }
+        match value {
+            Some(v) => t.insert(last.to_string(), v.clone()),
+            None => t.remove(last),
+        };
+    }
+    toml::to_string(&table).expect("invariant: a TOML table serialises")
+}
+
+/// Rows of `reference/<name>` deserialised as `R`.
+pub fn reference_rows<R: serde::de::DeserializeOwned>(name: &str) -> Vec<R> {
+    let path = repo_root().join("reference").join(name);
+    let mut rd =
+        csv::Reader::from_path(&path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    rd.deserialize()
+        .collect::<Result<Vec<R>, _>>()
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
 /// Worst energy-balance residual of an FE run relative to the boundary work, max over samples of
@@ -36,4 +63,25 @@ pub fn worst_energy_residual(out: &fem::RunOutput) -> (f64, f64) {
         .map(|e| e.residual.abs() / e.boundary_work)
         .fold(0.0f64, f64::max);
     (worst, w_final)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::with_overrides;
+
+    #[test]
+    fn overrides_set_and_remove_nested_keys() {
+        let out = with_overrides(
+            "[a]\nx = 1.0\ny = 2\n",
+            &[
+                ("a.x", Some(toml::Value::Float(3.5))),
+                ("a.y", None),
+                ("b.z", Some(toml::Value::Integer(4))),
+            ],
+        );
+        let t: toml::Table = out.parse().unwrap();
+        assert_eq!(t["a"]["x"].as_float(), Some(3.5));
+        assert!(t["a"].get("y").is_none());
+        assert_eq!(t["b"]["z"].as_integer(), Some(4));
+    }
 }

@@ -1,9 +1,10 @@
 //! A scalar map drawn cell by cell with a diverging colour scale, iso-lines and polylines on
 //! top (paper Figure 10: σ_yy around the interface). Draws what it is given.
 
-use super::lines::draw_curves;
-use super::{Curve, FONT, Labels, Scale, draw_axes, draw_colour_bar, register_font};
-use crate::contour::{GridCell, Segment};
+use super::contour::{GridCell, Segment};
+use super::style::{
+    Curve, FONT, Labels, Scale, draw_axes, draw_colour_bar, draw_curves, draw_legend, register_font,
+};
 use anyhow::{Context, Result, anyhow};
 use plotters::prelude::*;
 use std::path::Path;
@@ -35,7 +36,7 @@ pub fn diverging(v: f64, s: &Scale) -> RGBColor {
     if !v.is_finite() {
         return RGBColor(200, 200, 200);
     }
-    let f = ((v - s.min) / (s.max - s.min)).clamp(0.0, 1.0);
+    let f = s.fraction(v);
     let (lo, mid, hi) = ([59.0, 76.0, 192.0], [242.0, 242.0, 242.0], [180.0, 4.0, 38.0]);
     let (a, b, g) = if f < 0.5 {
         (lo, mid, 2.0 * f)
@@ -76,7 +77,7 @@ pub fn map_with_contours(path: &Path, labels: Labels, map: &Map, scale: &Scale) 
         .x_label_area_size(55)
         .y_label_area_size(85)
         .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)?;
-    draw_axes(&mut chart, labels, false)?;
+    draw_axes(&mut chart, labels, false, (false, false))?;
     chart.draw_series(map.cells.iter().map(|c| {
         Rectangle::new(
             [(c.x.0, c.y.0), (c.x.1, c.y.1)],
@@ -96,23 +97,17 @@ pub fn map_with_contours(path: &Path, labels: Labels, map: &Map, scale: &Scale) 
         }
     }
     draw_curves(&mut chart, &map.lines)?;
-    chart
-        .configure_series_labels()
-        .label_font((FONT, 15))
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()?;
-    draw_colour_bar(&bar, scale, diverging)?;
+    draw_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
+    draw_colour_bar(&bar, scale, |v| diverging(v, scale))?;
     root.present()
         .with_context(|| format!("writing {}", path.display()))
 }
 
 #[cfg(test)]
 mod tests {
-    use super::super::{Dash, PALETTE};
+    use super::super::contour::CentroidGrid;
+    use super::super::style::{Dash, PALETTE};
     use super::*;
-    use crate::contour::CentroidGrid;
 
     #[test]
     fn map_renders_cells_contours_and_lines() {
@@ -137,11 +132,7 @@ mod tests {
                 dash: Dash::Solid,
             }],
         };
-        let scale = Scale {
-            min: -1.0,
-            max: 1.0,
-            label: "v [-]".into(),
-        };
+        let scale = Scale::new(-1.0, 1.0, "v [-]");
         let labels = Labels {
             title: "map",
             x: "x [m]",
@@ -156,11 +147,7 @@ mod tests {
 
     #[test]
     fn diverging_scale_is_symmetric_and_clipped() {
-        let s = Scale {
-            min: -2.0,
-            max: 2.0,
-            label: String::new(),
-        };
+        let s = Scale::new(-2.0, 2.0, "");
         assert_eq!(diverging(0.0, &s), RGBColor(242, 242, 242));
         assert_eq!(diverging(-5.0, &s), RGBColor(59, 76, 192));
         assert_eq!(diverging(2.0, &s), RGBColor(180, 4, 38));

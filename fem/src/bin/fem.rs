@@ -1,29 +1,29 @@
-//! Thin CLI: `fem SCENE.toml [--out DIR]` runs the scene and writes the CSV records.
+//! Thin command line: `fem SCENE.toml [--out DIR]` runs the scene and writes the CSV records.
 
 use anyhow::{Context, Result, bail};
+use clap::Parser;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 
+/// Runs one scene with the hybrid (or standard) cohesive-contact FE model and writes its records
+/// as CSV (tips, interface, faces, contact, energy, arrivals, probes and the diagnostics the
+/// scene declares). A run that goes unstable keeps what it computed and exits non-zero.
+#[derive(Debug, Parser)]
+#[command(name = "fem", version)]
+struct Cli {
+    /// Scene file (TOML; see fem/README.md for every key).
+    scene: PathBuf,
+    /// Output folder (default: out/<scene name>/).
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+}
+
 fn main() -> Result<()> {
-    let mut args = std::env::args().skip(1);
-    let (mut scene_path, mut out_dir) = (None, None);
-    while let Some(a) = args.next() {
-        match a.as_str() {
-            "--out" => out_dir = Some(PathBuf::from(args.next().context("--out needs a directory")?)),
-            "-h" | "--help" => {
-                println!("usage: fem SCENE.toml [--out DIR]   (default DIR: out/<scene name>)");
-                return Ok(());
-            }
-            _ if scene_path.is_none() => scene_path = Some(PathBuf::from(a)),
-            _ => bail!("unexpected argument {a}"),
-        }
-    }
-    let scene_path = scene_path.context("usage: fem SCENE.toml [--out DIR]")?;
+    let cli = Cli::parse();
     let text =
-        std::fs::read_to_string(&scene_path).with_context(|| format!("reading {}", scene_path.display()))?;
-    let scene =
-        fem::Scene::from_toml_str(&text).with_context(|| format!("scene {}", scene_path.display()))?;
-    let out_dir = out_dir.unwrap_or_else(|| PathBuf::from("out").join(&scene.name));
+        std::fs::read_to_string(&cli.scene).with_context(|| format!("reading {}", cli.scene.display()))?;
+    let scene = fem::Scene::from_toml_str(&text).with_context(|| format!("scene {}", cli.scene.display()))?;
+    let out_dir = cli.out.unwrap_or_else(|| PathBuf::from("out").join(&scene.name));
     let bar = ProgressBar::new(1);
     bar.set_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} steps {elapsed_precise} eta {eta}")
@@ -62,7 +62,7 @@ fn main() -> Result<()> {
         println!("wrote {}", f.display());
     }
     if let Some(msg) = failure {
-        bail!(msg);
+        bail!("{msg}; the output up to there is in {}", out_dir.display());
     }
     Ok(())
 }

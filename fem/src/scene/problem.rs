@@ -35,6 +35,41 @@ impl Ramp {
         };
         self.initial + (self.final_value - self.initial) * s * s * s * (10.0 - 15.0 * s + 6.0 * s * s)
     }
+
+    /// Rate d(value)/dt at time t [unit/s]: (final − initial) S'(s)/(t₁ − t₀) with
+    /// S'(s) = 30 s²(1 − s)², 0 outside the ramp (and for a step).
+    pub fn rate(&self, t: f64) -> f64 {
+        let span = self.ramp_end - self.ramp_start;
+        if span <= 0.0 || t <= self.ramp_start || t >= self.ramp_end {
+            return 0.0;
+        }
+        let s = (t - self.ramp_start) / span;
+        (self.final_value - self.initial) * 30.0 * s * s * (1.0 - s) * (1.0 - s) / span
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Ramp;
+
+    #[test]
+    fn rate_is_the_derivative_of_the_value() {
+        let r = Ramp {
+            initial: 1.0,
+            final_value: 3.0,
+            ramp_start: 1.0,
+            ramp_end: 3.0,
+        };
+        for t in [1.2, 1.7, 2.0, 2.9] {
+            let d = 1e-6;
+            let fd = (r.value(t + d) - r.value(t - d)) / (2.0 * d);
+            assert!((r.rate(t) - fd).abs() < 1e-8, "t = {t}: {} vs {fd}", r.rate(t));
+        }
+        assert_eq!(r.rate(0.5), 0.0);
+        assert_eq!(r.rate(3.5), 0.0);
+        // peak S'(½) = 15/8 over a span of 2 s and a rise of 2
+        assert!((r.rate(2.0) - 15.0 / 8.0).abs() < 1e-12);
+    }
 }
 
 /// Pre-crack on the row y = 0: |x − center_x| < half_length.

@@ -3,25 +3,25 @@
 use std::path::PathBuf;
 
 use anyhow::Context;
+use clap::Parser;
 use indicatif::{ProgressBar, ProgressStyle};
 
-const USAGE: &str = "usage: spectral SCENE.toml [--out DIR]   (default DIR: out/spectral-<scene file name>)";
+/// Runs one scene with the spectral boundary-integral model of an interface between identical
+/// half-spaces and writes its records as CSV (tips, contact means, space-time fields). A run that
+/// goes unstable keeps what it computed and exits non-zero.
+#[derive(Debug, Parser)]
+#[command(name = "spectral", version)]
+struct Cli {
+    /// Scene file (TOML; see spectral/README.md for every key).
+    scene: PathBuf,
+    /// Output folder (default: out/spectral-<scene file name>/).
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+}
 
 fn main() -> anyhow::Result<()> {
-    let mut args = std::env::args().skip(1);
-    let (mut scene_path, mut out_dir) = (None, None);
-    while let Some(a) = args.next() {
-        match a.as_str() {
-            "--out" => out_dir = Some(PathBuf::from(args.next().context("--out needs a directory")?)),
-            "-h" | "--help" => {
-                println!("{USAGE}");
-                return Ok(());
-            }
-            _ if scene_path.is_none() => scene_path = Some(PathBuf::from(a)),
-            _ => anyhow::bail!("unexpected argument {a}; {USAGE}"),
-        }
-    }
-    let scene_path = scene_path.context(USAGE)?;
+    let cli = Cli::parse();
+    let (scene_path, out_dir) = (cli.scene, cli.out);
     let text =
         std::fs::read_to_string(&scene_path).with_context(|| format!("reading {}", scene_path.display()))?;
     let scene =

@@ -2,7 +2,7 @@
 //! behind that model's feature so one can be built while the other is being edited; the
 //! README's test command builds them all.
 
-// ---- spectral claims (issue: spectral) ----
+// ---- spectral claims ----
 #[cfg(feature = "spectral")]
 mod spectral_common;
 #[cfg(feature = "spectral")]
@@ -24,7 +24,7 @@ mod spectral_single_mode;
 #[cfg(feature = "spectral")]
 mod spectral_supershear;
 
-// ---- fem claims (issue: fem) ----
+// ---- fem claims ----
 #[cfg(feature = "fem")]
 mod fem_center_crack;
 #[cfg(feature = "fem")]
@@ -40,10 +40,12 @@ mod fem_patch_test;
 #[cfg(feature = "fem")]
 mod fem_wave_speeds;
 
-// ---- Section 4 claims (issue: sinusoidal interface) ----
+// ---- Section 4 claims ----
 #[cfg(feature = "fem")]
 mod fem_sinusoid;
 
-// ---- compare claims (issue: compare) ----
+// ---- FE against spectral, and the FE model at its extremes ----
+#[cfg(all(feature = "fem", feature = "spectral"))]
+mod compare_converged;
 #[cfg(feature = "fem")]
 mod fem_extremes;

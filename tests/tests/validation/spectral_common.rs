@@ -3,18 +3,13 @@
 
 use std::sync::OnceLock;
 
+use compare::series::{Series, least_squares_slope, onset};
 use spectral::{RunOutput, Scene, TipRecord};
-use validation::{repo_root, scene_text, with_overrides};
+use validation::{scene_text, with_overrides};
 
 /// Rows of a reference CSV with a header line (numbers only).
 pub fn reference_rows(name: &str) -> Vec<Vec<f64>> {
-    let path = repo_root().join("reference").join(name);
-    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    text.lines()
-        .skip(1)
-        .filter(|l| !l.trim().is_empty())
-        .map(|l| l.split(',').map(|v| v.trim().parse().expect("number")).collect())
-        .collect()
+    validation::reference_rows(name)
 }
 
 /// η for ν = 0.35 [-].
@@ -102,12 +97,15 @@ pub fn mean_tip_speed(out: &RunOutput) -> f64 {
     (x6 - x2) / (t6 - t2)
 }
 
-/// First time [s] the right or left crack tip has left the pre-crack tip by at least one grid point.
-pub fn onset_time(tips: &[TipRecord]) -> Option<f64> {
-    let (r0, l0) = (tips[0].tip_right, tips[0].tip_left);
-    tips.iter()
-        .find(|r| r.tip_right > r0 || r.tip_left < l0)
-        .map(|r| r.t)
+/// Half-length a [m] of the repository's centre crack.
+pub fn center_crack_a() -> f64 {
+    scene("center-crack", &[]).half_length
+}
+
+/// Onset time [s] of a run: the shared definition (`compare::series::onset`), the crack
+/// half-length exceeding its initial value by 0.05 a.
+pub fn onset_time(out: &RunOutput, a: f64) -> Option<f64> {
+    onset(&Series::half_length(&compare::runner::spectral_tips(out)), a)
 }
 
 /// First time [s] the right tip reaches x ≥ `x` [m].
@@ -117,14 +115,8 @@ pub fn crossing_time(tips: &[TipRecord], x: f64) -> Option<f64> {
 
 /// Least-squares slope of (t, x) pairs [m/s].
 pub fn slope(points: &[(f64, f64)]) -> f64 {
-    let n = points.len() as f64;
-    let (mt, mx) = points
-        .iter()
-        .fold((0.0, 0.0), |(a, b), p| (a + p.0 / n, b + p.1 / n));
-    let (num, den) = points.iter().fold((0.0, 0.0), |(a, b), p| {
-        (a + (p.0 - mt) * (p.1 - mx), b + (p.0 - mt).powi(2))
-    });
-    num / den
+    let (t, x): (Vec<f64>, Vec<f64>) = points.iter().copied().unzip();
+    least_squares_slope(&t, &x)
 }
 
 /// Windowed least-squares speed of the right tip: (t_mid, half_length, speed) for windows of

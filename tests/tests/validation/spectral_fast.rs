@@ -6,7 +6,7 @@
 
 use spectral::Convolution;
 
-use crate::spectral_common::{center_crack_with, f, mean_tip_speed, onset_time, scene};
+use crate::spectral_common::{center_crack_a, center_crack_with, f, mean_tip_speed, onset_time, scene};
 use crate::spectral_single_mode::errors;
 
 const RATIO_FAST: f64 = 1.1; // issue 6: fast error ≤ 1.1 × direct error (single mode); not tuned
@@ -74,8 +74,8 @@ fn fast_path_matches_direct_on_center_crack() {
         })
         .fold(0.0, f64::max);
     let (od, of) = (
-        onset_time(&direct.tips).expect("onset"),
-        onset_time(&fast.tips).expect("onset"),
+        onset_time(&direct, center_crack_a()).expect("onset"),
+        onset_time(&fast, center_crack_a()).expect("onset"),
     );
     let (vd, vf) = (mean_tip_speed(&direct), mean_tip_speed(&fast));
     println!(

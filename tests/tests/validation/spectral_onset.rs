@@ -4,7 +4,7 @@
 
 use spectral::loading::ramp_value;
 
-use crate::spectral_common::{center_crack, onset_time, scene};
+use crate::spectral_common::{center_crack, center_crack_a, onset_time, scene};
 
 const TOL_ONSET_REL: f64 = 0.10; // issue 2 claim 8: onset shear within 10 % of τ_c; not tuned
 
@@ -14,8 +14,8 @@ fn onset_matches_lefm_and_friction_delays_it() {
     let g_c = s.sigma_c * s.delta_c / 2.0;
     let nu = s.poisson_ratio;
     let tau_c = (g_c * s.youngs_modulus / (std::f64::consts::PI * s.half_length * (1.0 - nu * nu))).sqrt();
-    let t0 = onset_time(&center_crack(0.0).tips).expect("μ = 0 crack never started");
-    let t3 = onset_time(&center_crack(0.3).tips).expect("μ = 0.3 crack never started");
+    let t0 = onset_time(center_crack(0.0), center_crack_a()).expect("μ = 0 crack never started");
+    let t3 = onset_time(center_crack(0.3), center_crack_a()).expect("μ = 0.3 crack never started");
     let tau_onset = ramp_value(&s.shear, t0);
     println!(
         "τ_c (LEFM) = {tau_c:.1} Pa; μ = 0 onset at t = {t0:.6e} s (t/T = {:.4}), s_xy = {tau_onset:.1} Pa ({:+.2} %); μ = 0.3 onset at t = {t3:.6e} s (t/T = {:.4}), s_xy = {:.1} Pa",

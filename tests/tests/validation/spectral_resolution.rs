@@ -2,7 +2,7 @@
 //! than 1 % between Δx (N = 4096, paper resolution ≈ l_p/10) and Δx/2 (N = 8192), at the same
 //! c_s Δt/Δx.
 
-use crate::spectral_common::{center_crack, f, mean_tip_speed, onset_time, run, scene};
+use crate::spectral_common::{center_crack, center_crack_a, f, mean_tip_speed, onset_time, run, scene};
 
 const TOL_RESOLUTION_REL: f64 = 0.01; // issue 2 claim 7: < 1 % change between Δx and Δx/2; not tuned
 
@@ -17,8 +17,8 @@ fn onset_and_speed_converged_in_grid_spacing() {
         ],
     ));
     let (o1, o2) = (
-        onset_time(&coarse.tips).expect("onset"),
-        onset_time(&fine.tips).expect("onset"),
+        onset_time(coarse, center_crack_a()).expect("onset"),
+        onset_time(&fine, center_crack_a()).expect("onset"),
     );
     let (v1, v2) = (mean_tip_speed(coarse), mean_tip_speed(&fine));
     println!(

@@ -2,10 +2,9 @@
 //! faces only), the true contact zone (signed distance < 0) shaded and the nodes that carry a
 //! compressive traction marked. In the standard model tractions also act where the faces are open.
 
+use super::setup::{Setup, Snapshot};
 use crate::output::write_rows;
 use crate::plot::{self, Curve, Dash, Labels, PALETTE, Shading};
-use crate::sinusoid::Setup;
-use crate::sinusoid_snapshot::Snapshot;
 use anyhow::Result;
 use plotters::style::RGBColor;
 use serde::Serialize;

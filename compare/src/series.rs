@@ -1,4 +1,5 @@
-//! Lining two crack-tip histories up: time shift, crossing times, resampling, tip speed. Pure.
+//! Crack-tip histories as time series, and the definitions every study and test shares: the
+//! onset of propagation, the mean tip speed and the least-squares slope. Pure.
 //!
 //! Both models report the right and left crack tips of a centre crack loaded symmetrically
 //! (the problem is invariant under a 180° rotation about the crack centre), so the harness
@@ -89,17 +90,39 @@ impl Series {
     }
 }
 
-/// Slope of the least-squares line through (t, y); 0 for fewer than two distinct times.
-fn least_squares_slope(t: &[f64], y: &[f64]) -> f64 {
-    let n = t.len() as f64;
-    let tm = t.iter().sum::<f64>() / n;
+/// Crack advance that defines the onset of propagation, in units of a: the first time the
+/// history exceeds its initial value by 0.05 a (6.25 mm at paper scale, about 6 elements).
+/// Past onset the crack runs at ~c_R and covers this in ~0.002 T, so the choice moves the onset
+/// by far less than any tolerance on it, while a smaller advance would count the quasi-static
+/// creep of the tip.
+pub const ONSET_ADVANCE_OVER_A: f64 = 0.05;
+
+/// Onset time [s] of a crack-length history (the half-length ℓ, or one tip's distance from the
+/// crack centre): the first time it exceeds its initial value by 0.05 a; `None`: never.
+pub fn onset(length: &Series, a: f64) -> Option<f64> {
+    let l0 = *length.y.first()?;
+    length.first_crossing(l0 + ONSET_ADVANCE_OVER_A * a)
+}
+
+/// Mean tip speed [m/s] between half-lengths 1.2a and 1.9a; `None` if ℓ never reaches 1.9a.
+pub fn mean_speed(half_length: &Series, a: f64) -> Option<f64> {
+    let t1 = half_length.first_crossing(1.2 * a)?;
+    let t2 = half_length.first_crossing(1.9 * a)?;
+    (t2 > t1).then(|| 0.7 * a / (t2 - t1))
+}
+
+/// Slope dy/dx of the least-squares line through the points (x, y); 0 for fewer than two
+/// distinct x.
+pub fn least_squares_slope(x: &[f64], y: &[f64]) -> f64 {
+    let n = x.len() as f64;
+    let xm = x.iter().sum::<f64>() / n;
     let ym = y.iter().sum::<f64>() / n;
-    let (mut sty, mut stt) = (0.0, 0.0);
-    for (&ti, &yi) in t.iter().zip(y) {
-        sty += (ti - tm) * (yi - ym);
-        stt += (ti - tm) * (ti - tm);
+    let (mut sxy, mut sxx) = (0.0, 0.0);
+    for (&xi, &yi) in x.iter().zip(y) {
+        sxy += (xi - xm) * (yi - ym);
+        sxx += (xi - xm) * (xi - xm);
     }
-    if stt > 0.0 { sty / stt } else { 0.0 }
+    if sxx > 0.0 { sxy / sxx } else { 0.0 }
 }
 
 #[cfg(test)]
@@ -155,5 +178,24 @@ mod tests {
             cz_tip_left: -0.1,
         };
         assert!((Series::half_length(&[r]).y[0] - 0.2).abs() < 1e-15);
+    }
+
+    #[test]
+    fn onset_is_an_advance_of_five_hundredths_of_a() {
+        // ℓ = 1 until t = 1, then 1 + 2 (t − 1): ℓ = 1.05 at t = 1.025
+        let s = Series {
+            t: ramp().t,
+            y: ramp().y.iter().map(|y| 1.0 + y).collect(),
+        };
+        assert!((onset(&s, 1.0).unwrap() - 1.025).abs() < 1e-12);
+        assert_eq!(onset(&s, 100.0), None);
+        // 1.2a → 1.9a in 0.35: 0.7a / 0.35 = 2
+        assert!((mean_speed(&s, 1.0).unwrap() - 2.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn least_squares_slope_of_a_line_and_of_a_point() {
+        assert!((least_squares_slope(&[0.0, 1.0, 2.0], &[1.0, 3.0, 5.0]) - 2.0).abs() < 1e-15);
+        assert_eq!(least_squares_slope(&[1.0], &[4.0]), 0.0);
     }
 }

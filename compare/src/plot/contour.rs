@@ -1,5 +1,6 @@
 //! Element-centroid values of a mapped structured mesh as a grid (columns of uniform x, rows of
-//! varying y) and their iso-lines by marching squares. Pure; the figures draw what it returns.
+//! varying y) and their iso-lines. The iso-lines come from the `contour` crate's marching squares
+//! in index space, mapped back onto the centroids. Pure; the figures draw what it returns.
 
 /// Centroid values on a structured grid: `y[row][col]` and `value[row][col]`, NaN where the
 /// sample window left an element out.
@@ -101,59 +102,64 @@ impl CentroidGrid {
         out
     }
 
-    fn corner(&self, r: usize, c: usize) -> (f64, f64, f64) {
-        (self.x[c], self.y[r][c], self.value[r][c])
+    /// The point of index-space coordinates (column c, row r), c ∈ [0, ncols − 1],
+    /// r ∈ [0, nrows − 1], by bilinear interpolation of the four surrounding centroids.
+    fn at(&self, c: f64, r: f64) -> (f64, f64) {
+        let (c0, r0) = (
+            (c.floor() as usize).min(self.x.len() - 2),
+            (r.floor() as usize).min(self.y.len() - 2),
+        );
+        let (fc, fr) = (c - c0 as f64, r - r0 as f64);
+        let x = self.x[c0] + fc * (self.x[c0 + 1] - self.x[c0]);
+        let lerp = |row: &Vec<f64>| row[c0] + fc * (row[c0 + 1] - row[c0]);
+        let (ya, yb) = (lerp(&self.y[r0]), lerp(&self.y[r0 + 1]));
+        (x, ya + fr * (yb - ya))
     }
 
-    /// The iso-line `value = level` by marching squares over the cells formed by four
-    /// neighbouring centroids (cells with a missing corner are skipped). Crossings are placed by
-    /// linear interpolation between the two centroids of an edge; a saddle is resolved by the
-    /// mean of the four corners.
+    /// Whether every corner of the index-space cell holding (c, r) is present.
+    fn complete(&self, c: f64, r: f64) -> bool {
+        let (c0, r0) = (
+            (c.floor() as usize).min(self.x.len() - 2),
+            (r.floor() as usize).min(self.y.len() - 2),
+        );
+        [(r0, c0), (r0, c0 + 1), (r0 + 1, c0), (r0 + 1, c0 + 1)]
+            .iter()
+            .all(|&(i, j)| self.y[i][j].is_finite() && self.value[i][j].is_finite())
+    }
+
+    /// The iso-line `value = level` as segments between centroid-grid crossings. The `contour`
+    /// crate traces it in index space with linear interpolation along cell edges; pieces on the
+    /// outer edge of the grid (where it closes its rings) and pieces through cells with a
+    /// missing corner are left out, and the rest is mapped onto the centroids bilinearly.
     pub fn contour(&self, level: f64) -> Vec<Segment> {
+        let (nr, nc) = (self.y.len(), self.x.len());
+        if nr < 2 || nc < 2 {
+            return Vec::new();
+        }
+        let values: Vec<f64> = self.value.iter().flatten().copied().collect();
+        let Ok(lines) = contour::ContourBuilder::new(nc, nr, true).lines(&values, &[level]) else {
+            return Vec::new();
+        };
+        // the crate puts sample (i, j) at the centre (i + ½, j + ½) of its pixel
+        let inside = |p: &contour::Pt| {
+            let (c, r) = (p.x - 0.5, p.y - 0.5);
+            (c >= 0.0 && c <= (nc - 1) as f64 && r >= 0.0 && r <= (nr - 1) as f64).then_some((c, r))
+        };
         let mut out = Vec::new();
-        for r in 0..self.y.len().saturating_sub(1) {
-            for c in 0..self.x.len().saturating_sub(1) {
-                let p = [
-                    self.corner(r, c),
-                    self.corner(r, c + 1),
-                    self.corner(r + 1, c + 1),
-                    self.corner(r + 1, c),
-                ];
-                if p.iter().all(|q| q.1.is_finite() && q.2.is_finite()) {
-                    square(&p, level, &mut out);
+        for line in &lines {
+            for ring in &line.geometry().0 {
+                for w in ring.0.windows(2) {
+                    let (Some(a), Some(b)) = (inside(&w[0]), inside(&w[1])) else {
+                        continue;
+                    };
+                    let mid = (0.5 * (a.0 + b.0), 0.5 * (a.1 + b.1));
+                    if a != b && self.complete(mid.0, mid.1) {
+                        out.push((self.at(a.0, a.1), self.at(b.0, b.1)));
+                    }
                 }
             }
         }
         out
-    }
-}
-
-/// Crossing on the edge from corner `a` to corner `b` (x, y, value).
-fn crossing(a: (f64, f64, f64), b: (f64, f64, f64), level: f64) -> (f64, f64) {
-    let f = (level - a.2) / (b.2 - a.2);
-    (a.0 + f * (b.0 - a.0), a.1 + f * (b.1 - a.1))
-}
-
-/// Segments of one cell; corners counter-clockwise from the lower left, edge k joins corners
-/// k and k + 1.
-fn square(p: &[(f64, f64, f64); 4], level: f64, out: &mut Vec<Segment>) {
-    let above: Vec<bool> = p.iter().map(|q| q.2 > level).collect();
-    let cut: Vec<usize> = (0..4).filter(|&k| above[k] != above[(k + 1) % 4]).collect();
-    let point = |k: usize| crossing(p[k], p[(k + 1) % 4], level);
-    match cut.len() {
-        2 => out.push((point(cut[0]), point(cut[1]))),
-        4 => {
-            let centre_above = p.iter().map(|q| q.2).sum::<f64>() / 4.0 > level;
-            if centre_above == above[0] {
-                // corners 0 and 2 are joined through the centre: cut off corners 1 and 3
-                out.push((point(0), point(1)));
-                out.push((point(2), point(3)));
-            } else {
-                out.push((point(3), point(0)));
-                out.push((point(1), point(2)));
-            }
-        }
-        _ => {}
     }
 }
 
@@ -210,18 +216,33 @@ mod tests {
     }
 
     #[test]
-    fn saddle_gives_two_segments() {
-        let p = [
-            (0.0, 0.0, 1.0),
-            (1.0, 0.0, -1.0),
-            (1.0, 1.0, 1.0),
-            (0.0, 1.0, -1.0),
-        ];
-        let mut out = Vec::new();
-        square(&p, 0.0, &mut out);
-        assert_eq!(out.len(), 2);
-        square(&p, 0.5, &mut out);
-        assert_eq!(out.len(), 4);
+    fn a_circle_is_traced_inside_the_grid_and_not_along_its_edge() {
+        // r² = x² + y² on a 21 × 21 grid of spacing 0.1 centred on 0: the level 0.25 is the
+        // circle of radius 0.5, every crossing within one cell of it
+        let mut s = Vec::new();
+        for r in 0..21 {
+            for c in 0..21 {
+                let (x, y) = (0.1 * c as f64 - 1.0, 0.1 * r as f64 - 1.0);
+                s.push((x, y, x * x + y * y));
+            }
+        }
+        let g = CentroidGrid::from_row_major(&s);
+        let seg = g.contour(0.25);
+        assert!(seg.len() >= 20, "{}", seg.len());
+        for (a, b) in &seg {
+            for p in [a, b] {
+                let rad = (p.0 * p.0 + p.1 * p.1).sqrt();
+                assert!((rad - 0.5).abs() < 0.02, "{p:?} at radius {rad}");
+            }
+        }
+        // the level 1.5 only exists in the corners: no piece runs along the grid's edge
+        let pieces = g.contour(1.5);
+        assert!(!pieces.is_empty());
+        for (a, b) in pieces {
+            let along_x_edge = (a.1 - b.1).abs() < 1e-12 && a.1.abs() > 0.999;
+            let along_y_edge = (a.0 - b.0).abs() < 1e-12 && a.0.abs() > 0.999;
+            assert!(!along_x_edge && !along_y_edge, "{a:?} {b:?}");
+        }
     }
 
     #[test]

@@ -1,19 +1,9 @@
-//! Paper Appendix D (Figure D.15): the centre crack at ε_n = ε_t = f · E per metre for every
-//! factor f given (the paper's [`EPS_FACTORS`] by default), at the scene's friction coefficient. Per run: the upper-face
-//! interpenetration profile at t/T = 0.6 (D.15a), the mean contact tractions against time
-//! (D.15b, c), and their claim-7 window means against |s_yy| and μ|s_yy|
-//! (windows of [`crate::contact_windows`], shared with the validation test).
+//! The records of the penalty study (paper Appendix D, Figure D.15), computed from one FE run:
+//! the upper-face interpenetration profile at t/T = 0.6 (D.15a), the mean contact tractions
+//! against time (D.15b, c), and their window means against |s_yy| and μ|s_yy|.
 
-use crate::contact_windows::mean_tractions;
-use crate::gate::Reporter;
-use crate::output::write_rows;
-use crate::penalty_figures::{Expected, penalty_figures};
-use crate::scene::with_overrides;
-use anyhow::{Context, Result, anyhow};
-use serde::Serialize;
-use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
-use toml::Value;
+use super::windows::mean_tractions;
+use serde::{Deserialize, Serialize};
 
 /// Penalty factors f [-] of ε_n = ε_t = f · E per metre (paper Appendix D).
 pub const EPS_FACTORS: [u32; 3] = [100, 200, 300];
@@ -52,7 +42,7 @@ pub struct MeanRow {
 
 /// One run's figures against the paper's expectations (`penalty_summary.csv`). Window means are
 /// empty (`None`) when their window is empty; relative errors are signed: (measured − expected)/expected.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct SummaryRow {
     /// Penalty factor f [-].
     pub eps_factor: u32,
@@ -67,26 +57,6 @@ pub struct SummaryRow {
     pub mean_tangential_while_slipping: Option<f64>,
     /// (mean tangential − μ|s_yy|)/(μ|s_yy|) [-].
     pub rel_error_tangential: Option<f64>,
-}
-
-/// Everything the study produced.
-#[derive(Debug, Clone)]
-pub struct PenaltyReport {
-    /// One summary row per penalty factor.
-    pub summary: Vec<SummaryRow>,
-    /// Every file written.
-    pub files: Vec<PathBuf>,
-}
-
-/// The FE scene of `text` with ε_n = ε_t = `factor` · E per metre (E = `[material].youngs_modulus`).
-pub fn penalty_scene(text: &str, factor: u32) -> Result<fem::Scene> {
-    let base = fem::Scene::from_toml_str(text).context("FE model: invalid scene")?;
-    let eps = Value::Float(f64::from(factor) * base.material.youngs_modulus);
-    let text = with_overrides(
-        text,
-        &[("fem.eps_n", Some(eps.clone())), ("fem.eps_t", Some(eps))],
-    )?;
-    fem::Scene::from_toml_str(&text).with_context(|| format!("FE model: invalid scene at ε_n = {factor} E/m"))
 }
 
 /// The upper-face records of the sample nearest `t` [s] (empty when there are none).
@@ -150,85 +120,17 @@ pub fn summary(factor: u32, scene: &fem::Scene, out: &fem::RunOutput) -> Summary
     }
 }
 
-fn run_one(text: &str, factor: u32, dir: &Path, rep: &dyn Reporter) -> Result<(fem::Scene, fem::RunOutput)> {
-    let scene = penalty_scene(text, factor)?;
-    let mut progress = rep.run_started(&format!("FE ε_n = {factor:>4} E/m"));
-    match fem::run_with_progress(&scene, &mut *progress) {
-        Ok(out) => Ok((scene, out)),
-        Err(fem::RunError::Unstable { partial, .. }) => {
-            let sub = dir.join(format!("fem_eps{factor}"));
-            let written = std::fs::create_dir_all(&sub)
-                .map_err(anyhow::Error::from)
-                .and_then(|()| fem::output::write_csv(&partial, &sub).map_err(anyhow::Error::from));
-            Err(anyhow!(
-                "FE run ε_n = {factor} E/m went unstable; output so far in {} ({written:?})",
-                sub.display()
-            ))
-        }
-        Err(e) => Err(e).context(format!("FE run ε_n = {factor} E/m")),
-    }
-}
-
-/// Runs the study on the scene `text` at each penalty factor of `factors`, writing CSVs and
-/// figures into `dir`.
-pub fn run_study(text: &str, dir: &Path, factors: &[u32], rep: &dyn Reporter) -> Result<PenaltyReport> {
-    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    let (mut faces, mut means, mut summaries, mut expected) = (Vec::new(), Vec::new(), Vec::new(), None);
-    for &factor in factors {
-        let (scene, out) = run_one(text, factor, dir, rep)?;
-        faces.extend(face_rows(factor, &scene, &out));
-        means.extend(mean_rows(factor, &scene, &out));
-        summaries.push(summary(factor, &scene, &out));
-        expected.get_or_insert_with(|| Expected::of(&scene));
-    }
-    let mut files = vec![
-        write_rows(&dir.join("penalty_faces.csv"), &faces)?,
-        write_rows(&dir.join("penalty_means.csv"), &means)?,
-        write_rows(&dir.join("penalty_summary.csv"), &summaries)?,
-    ];
-    if let Some(e) = &expected {
-        files.extend(penalty_figures(dir, e, &faces, &means)?);
-    }
-    Ok(PenaltyReport {
-        summary: summaries,
-        files,
-    })
-}
-
-/// The summary as a text table (for the binary to print).
-pub fn table(rows: &[SummaryRow]) -> String {
-    let opt = |v: Option<f64>, scale: f64, digits: usize| {
-        v.map_or("—".to_string(), |v| format!("{:.*}", digits, v * scale))
-    };
-    let mut s = format!(
-        "\n{:>10} {:>16} {:>14} {:>10} {:>14} {:>10}\n",
-        "eps_n [E]", "max p/2a @0.6T", "T_n before [Pa]", "err_n", "T_t slip [Pa]", "err_t"
-    );
-    for r in rows {
-        let _ = writeln!(
-            s,
-            "{:>10} {:>15.5}% {:>14} {:>9}% {:>14} {:>9}%",
-            r.eps_factor,
-            100.0 * r.max_penetration_over_2a_at_profile,
-            opt(r.mean_normal_before_onset, 1.0, 1),
-            opt(r.rel_error_normal, 100.0, 2),
-            opt(r.mean_tangential_while_slipping, 1.0, 1),
-            opt(r.rel_error_tangential, 100.0, 2),
-        );
-    }
-    s
-}
-
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use fem::{ArrivalRecord, ContactMeanRecord, FaceRecord, RunOutput};
 
     const MS: f64 = 1e-3;
 
-    fn scene() -> fem::Scene {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/center-crack.toml");
-        penalty_scene(&std::fs::read_to_string(path).unwrap(), 300).unwrap()
+    pub(crate) fn scene() -> fem::Scene {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/center-crack.toml");
+        let s = fem::Scene::from_toml_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        s.with_penalties(300.0 * 70e6, 300.0 * 70e6).unwrap()
     }
 
     fn face(t: f64, x: f64, penetration: f64, normal: f64, tangential: f64) -> FaceRecord {
@@ -243,7 +145,7 @@ mod tests {
 
     /// Centre-crack scales (a = 0.125 m, T = 0.02 s, |s_yy| = 50 kPa, μ = 0.3). Samples at
     /// t = (k + ½) ms; insertion at 12 ms; the pre-crack nodes stick at 5.5 ms and slip at 6.2 ms.
-    fn synthetic() -> RunOutput {
+    pub(crate) fn synthetic() -> RunOutput {
         let contact = (0..20)
             .map(|k| {
                 let (n, tt) = match k {
@@ -327,32 +229,5 @@ mod tests {
         assert_eq!(r.mean_tangential_while_slipping, None);
         assert_eq!(r.rel_error_tangential, None);
         assert!(r.mean_normal_before_onset.is_some());
-        assert!(table(&[r]).contains('—'));
-    }
-
-    #[test]
-    fn files_have_the_documented_headers() {
-        let dir = std::env::temp_dir().join(format!("compare-penalty-test-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let (s, out) = (scene(), synthetic());
-        let p = write_rows(&dir.join("penalty_summary.csv"), &[summary(300, &s, &out)]).unwrap();
-        let text = std::fs::read_to_string(p).unwrap();
-        assert!(text.starts_with(
-            "eps_factor,max_penetration_over_2a_at_0.6T,mean_normal_before_onset,rel_error_normal,\
-             mean_tangential_while_slipping,rel_error_tangential\n"
-        ));
-        let p = write_rows(&dir.join("penalty_means.csv"), &mean_rows(300, &s, &out)).unwrap();
-        let text = std::fs::read_to_string(p).unwrap();
-        assert!(text.starts_with(
-            "eps_factor,t,t_over_T,mean_normal_traction,mean_tangential_traction,max_penetration_over_2a\n"
-        ));
-        let pngs = penalty_figures(
-            &dir,
-            &Expected::of(&s),
-            &face_rows(300, &s, &out),
-            &mean_rows(300, &s, &out),
-        );
-        assert_eq!(pngs.unwrap().len(), 3);
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

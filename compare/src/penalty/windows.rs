@@ -1,6 +1,6 @@
 //! The time windows over which the centre crack's mean contact tractions are compared with the
-//! far field (issue 3 claim 7): one definition, read by the claim-7 validation test and by the
-//! penalty study (`compare -- penalty`, paper Appendix D).
+//! far field (paper Figure 6c): one definition, read by the validation test and by the penalty
+//! study (`compare penalty`, paper Appendix D).
 
 /// Start of the normal-traction window, t/T [-]: the compression is held from 0.1 T (end of its
 /// ramp); the window starts once it has settled.

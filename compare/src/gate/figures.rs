@@ -1,27 +1,16 @@
-//! The comparison figures of the paper (Figures 5b, 6a–c, 7a–b, 8a–b, B.14a), built from the
-//! runs' records and drawn by `plot`. File names are listed in the README.
+//! The tip figures of the comparison (paper Figures 7a–b, 8a–b), built from both models' tip
+//! histories and drawn by `plot`. File names are listed in docs/outputs.md.
 
-use crate::align::{Series, TipRow};
-use crate::metrics::onset;
-use crate::models::Case;
-use crate::plot::{self, Curve, Dash, Field, Labels, Mark, PALETTE, Scale};
+use super::metrics::MuRuns;
+use crate::plot::{self, Curve, Dash, Labels, Mark, PALETTE};
+use crate::series::{Series, onset};
+use crate::study::Case;
 use anyhow::Result;
-use plotters::style::{BLACK, RGBColor};
+use plotters::style::BLACK;
 use std::path::{Path, PathBuf};
 
-/// Both models' tip histories for one friction coefficient.
-#[derive(Debug, Clone)]
-pub struct MuRuns {
-    /// Friction coefficient μ [-].
-    pub mu: f64,
-    /// FE tips.
-    pub fem: Vec<TipRow>,
-    /// Spectral tips (unshifted).
-    pub spectral: Vec<TipRow>,
-}
-
 /// Least-squares half-window for tip speeds [s]: ±1e-4 s, in which a crack at c_R runs
-/// ~14 elements of 1 mm (fem-method §8: a few h/c_R at least).
+/// ~14 elements of 1 mm (a tip moves one facet at a time, so a slope needs a few h/c_R at least).
 const SPEED_HALF_WINDOW_S: f64 = 1e-4;
 
 /// Tip curves are drawn up to this half-length [a]: the FE domain ends at 2a, and the
@@ -148,81 +137,4 @@ pub fn tip_figures(dir: &Path, case: &Case, runs: &[MuRuns]) -> Result<Vec<PathB
     velocity_figure(&p, case, runs)?;
     written.push(p);
     Ok(written)
-}
-
-/// Builds a space-time field from (t, x, value) samples: one row per distinct time (records
-/// of one output time are contiguous), columns at the x positions of the first row; a sample
-/// goes to the column nearest its x.
-pub fn field_from(samples: impl Iterator<Item = (f64, f64, f64)>, case: &Case) -> Field {
-    let mut t_rows: Vec<f64> = Vec::new();
-    let mut rows: Vec<Vec<(f64, f64)>> = Vec::new();
-    for (t, x, v) in samples {
-        if t_rows.last() != Some(&t) {
-            t_rows.push(t);
-            rows.push(Vec::new());
-        }
-        rows.last_mut()
-            .expect("invariant: a row was just pushed")
-            .push((x, v));
-    }
-    let mut xs: Vec<f64> = rows
-        .first()
-        .map(|r| r.iter().map(|p| p.0).collect())
-        .unwrap_or_default();
-    xs.sort_by(f64::total_cmp);
-    xs.dedup();
-    let values = rows
-        .iter()
-        .map(|row| {
-            let mut out = vec![f64::NAN; xs.len()];
-            for &(x, v) in row {
-                let j = xs.partition_point(|&c| c < x);
-                let j = match (j.checked_sub(1), xs.get(j)) {
-                    (Some(i), Some(&c)) if (x - xs[i]).abs() < (c - x).abs() => i,
-                    (Some(i), None) => i,
-                    _ => j,
-                };
-                if let Some(o) = out.get_mut(j) {
-                    *o = v;
-                }
-            }
-            out
-        })
-        .collect();
-    Field {
-        x: xs
-            .iter()
-            .map(|x| (x - case.center_x) / case.half_length)
-            .collect(),
-        t: t_rows.iter().map(|t| t / case.duration).collect(),
-        values,
-    }
-}
-
-/// Space-time labels: x/a across, t/T up.
-pub fn space_time_labels(title: &str) -> Labels<'_> {
-    Labels {
-        title,
-        x: "(x − x_c)/a [-]",
-        y: "t/T [-]",
-    }
-}
-
-/// A curve of (t/T, value) points.
-pub fn time_curve(label: &str, points: Vec<(f64, f64)>, i: usize) -> Curve {
-    Curve::nth(label.to_string(), points, i, Dash::Solid)
-}
-
-/// A horizontal reference line.
-pub fn reference(y: f64, color: RGBColor, label: String) -> Mark {
-    Mark::Horizontal(y, color, label)
-}
-
-/// Colour scale helper.
-pub fn scale(min: f64, max: f64, label: &str) -> Scale {
-    Scale {
-        min,
-        max,
-        label: label.to_string(),
-    }
 }

@@ -1,13 +1,12 @@
 //! Paper Figures 10 and 11 from the snapshot records of each model: the σ_yy map around the
 //! interface with stress contours (here), and σ_yy along the upper face of the right weak branch
-//! with the true contact zone shaded ([`crate::sinusoid_contact`]). Each figure's plotted data
-//! also go to a CSV.
+//! with the true contact zone shaded ([`super::contact`]). Each figure's plotted data also go to
+//! a CSV.
 
-use crate::contour::CentroidGrid;
+use super::contact::contact_profile;
+use super::setup::{ModelRun, Setup, Snapshot};
 use crate::output::write_rows;
-use crate::plot::{self, ContourSet, Curve, Dash, Labels, Map, PALETTE, Scale};
-use crate::sinusoid::{ModelRun, Setup};
-use crate::sinusoid_contact::contact_profile;
+use crate::plot::{self, CentroidGrid, ContourSet, Curve, Dash, Labels, Map, PALETTE, Scale};
 use anyhow::Result;
 use plotters::style::{BLACK, RGBColor};
 use serde::Serialize;
@@ -104,17 +103,6 @@ pub fn snapshot_figures(dir: &Path, setup: &Setup, runs: &[ModelRun]) -> Result<
         files.extend(contact_profile(dir, setup, &snap)?);
     }
     Ok(files)
-}
-
-/// One run's snapshot: its index in the run's snapshots and its time t/T [-].
-#[derive(Debug, Clone, Copy)]
-pub struct Snapshot<'a> {
-    /// The run.
-    pub run: &'a ModelRun,
-    /// Snapshot index.
-    pub k: usize,
-    /// t/T of the snapshot [-].
-    pub t_over_t: f64,
 }
 
 /// The iso-lines of `grid` at ±[`CONTOUR_LEVELS`].
@@ -218,11 +206,7 @@ fn stress_map(
         x: "(x − x_c)/a [-]",
         y: "y/a [-]",
     };
-    let scale = Scale {
-        min: -bound,
-        max: bound,
-        label: "σ_yy/σ_c^s [-]".into(),
-    };
+    let scale = Scale::new(-bound, bound, "σ_yy/σ_c^s [-]");
     plot::map_with_contours(&png, labels, &map, &scale)?;
     Ok(vec![
         png,
@@ -244,8 +228,7 @@ mod tests {
 
     #[test]
     fn snapshot_figures_render_and_write_their_data() {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/sinusoidal-interface.toml");
-        let setup = Setup::of(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let setup = crate::sinusoid::setup::tests::setup();
         let (a, t) = (setup.half_length, setup.snapshot_time);
         let sc = setup.sigma_c_strong;
         let fields = (0..6)

@@ -2,9 +2,8 @@
 //! t/T = 0.6, (b) mean normal and (c) mean tangential contact traction against time, one curve
 //! per penalty factor. Draws what it is given.
 
-use crate::figures::{reference, time_curve};
-use crate::penalty::{FaceRow, MeanRow, PROFILE_TIME_OVER_T};
-use crate::plot::{self, Curve, Labels};
+use super::rows::{FaceRow, MeanRow, PROFILE_TIME_OVER_T};
+use crate::plot::{self, Curve, Dash, Labels, Mark};
 use anyhow::Result;
 use plotters::style::BLACK;
 use std::path::{Path, PathBuf};
@@ -73,7 +72,7 @@ fn profile(dir: &Path, e: &Expected, faces: &[FaceRow]) -> Result<PathBuf> {
                 .filter(|r| r.eps_factor == f)
                 .map(|r| ((r.x - e.center_x) / e.half_length, 100.0 * r.penetration_over_2a))
                 .collect();
-            time_curve(&label(f), pts, i)
+            Curve::nth(label(f), pts, i, Dash::Solid)
         })
         .collect();
     let p = dir.join("figD15a_penetration_profile.png");
@@ -111,7 +110,7 @@ fn traction(dir: &Path, e: &Expected, means: &[MeanRow], c: Component) -> Result
                 .filter(|r| r.eps_factor == f)
                 .map(|r| (r.t_over_t, value(r) / 1e6))
                 .collect();
-            time_curve(&label(f), pts, i)
+            Curve::nth(label(f), pts, i, Dash::Solid)
         })
         .collect();
     let s_yy = e.normal_stress / 1e6;
@@ -119,12 +118,12 @@ fn traction(dir: &Path, e: &Expected, means: &[MeanRow], c: Component) -> Result
         Component::Normal => (
             "figD15b_mean_normal_traction.png",
             "normal",
-            reference(s_yy, BLACK, format!("|s_yy| = {s_yy} MPa")),
+            Mark::Horizontal(s_yy, BLACK, format!("|s_yy| = {s_yy} MPa")),
         ),
         Component::Tangential => (
             "figD15c_mean_tangential_traction.png",
             "tangential",
-            reference(
+            Mark::Horizontal(
                 e.friction_coeff * s_yy,
                 BLACK,
                 format!("μ|s_yy| = {:.4} MPa", e.friction_coeff * s_yy),

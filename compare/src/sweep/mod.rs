@@ -5,14 +5,11 @@
 //! edges stay on nodes (4 mm → a/31 = 4.03 mm). Spectral: the power-of-two N nearest to X/h
 //! (N = 1024 … 8192 for X = 30a), at the FE time step of the same point.
 
-use crate::align::Series;
-use crate::metrics::{mean_speed, onset};
-use crate::models;
-use crate::scene::with_overrides;
+use crate::runner::{Job, Keep, Silent, fem_tips, run_fem, run_spectral, spectral_tips};
+use crate::series::{Series, mean_speed, onset};
+use crate::study::Study;
 use anyhow::{Context, Result, anyhow};
 use serde::{Deserialize, Serialize};
-use std::time::Instant;
-use toml::Value;
 
 /// Nominal FE element sizes of the sweep [m], coarse to fine.
 pub const NOMINAL_SIZES: [f64; 4] = [4e-3, 2e-3, 1e-3, 0.5e-3];
@@ -63,17 +60,6 @@ pub struct Point {
     pub speed_error_rel: f64,
 }
 
-/// Actual FE element size [m] for a nominal one: a/round(a/h).
-pub fn fem_size(a: f64, nominal: f64) -> f64 {
-    a / (a / nominal).round()
-}
-
-/// Spectral grid points for a nominal spacing: the power of two nearest to X/h.
-pub fn spectral_points(length: f64, nominal: f64) -> usize {
-    let n = (length / nominal).log2().round() as u32;
-    1usize << n
-}
-
 fn peak_memory_bytes() -> f64 {
     let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
     status
@@ -83,48 +69,62 @@ fn peak_memory_bytes() -> f64 {
         .map_or(f64::NAN, |kib| kib * 1024.0)
 }
 
-fn spectral_length(text: &str) -> Result<f64> {
-    let t: toml::Table = text.parse()?;
-    t.get("spectral")
-        .and_then(|s| s.get("length"))
-        .and_then(Value::as_float)
-        .ok_or_else(|| anyhow!("spectral.length: missing; the sweep needs the periodic length [m]"))
+/// Every point's study (FE and spectral at each nominal size), validated before any run.
+pub fn plan(study: &Study) -> Result<Vec<(Model, f64, Study)>> {
+    study.spectral()?;
+    let mut out = Vec::new();
+    for model in [Model::Fem, Model::Spectral] {
+        for h in NOMINAL_SIZES {
+            let point = study.at_resolution(h)?;
+            if model == Model::Spectral {
+                point
+                    .spectral()?
+                    .with_time_step(point.fem.time_step())
+                    .with_context(|| format!("the spectral model at the FE step of h = {h} m"))?;
+            }
+            out.push((model, h, point));
+        }
+    }
+    Ok(out)
 }
 
-/// Runs one point in this process (the child side of the sweep) and writes its tip history to
-/// `<dir>/tips_<model>_<nominal h in mm>mm.csv` (header `t,tip_right,tip_left,cz_tip_right,cz_tip_left`).
-pub fn run_point(text: &str, model: Model, nominal: f64, dir: &std::path::Path) -> Result<Point> {
-    let case = models::case(text)?;
-    let h = fem_size(case.half_length, nominal);
-    let text = with_overrides(text, &[("fem.element_size", Some(Value::Float(h)))])?;
-    let table: toml::Table = text.parse()?;
-    let friction = table
-        .get("friction")
-        .and_then(|f| f.get("friction_coeff"))
-        .and_then(Value::as_float)
-        .ok_or_else(|| {
-            anyhow!("friction.friction_coeff: missing; the sweep runs the scene's own friction")
-        })?;
-    let fem_scene = models::fem_scene(&text, friction)?;
-    let dt = fem_scene.time_step();
-    let start = Instant::now();
-    let (tips, spacing) = match model {
+/// Runs one point in this process (the child side of the sweep) at the scene's own friction
+/// coefficient and writes its tip history to `<dir>/tips_<model>_<nominal h in mm>mm.csv`
+/// (header `t,tip_right,tip_left,cz_tip_right,cz_tip_left`). A run that goes unstable keeps its
+/// full output in `<dir>/<model>_<h>mm/` and fails the point.
+pub fn run_point(study: &Study, model: Model, nominal: f64, dir: &std::path::Path) -> Result<Point> {
+    let point = study.at_resolution(nominal)?;
+    let case = point.case();
+    let dt = point.fem.time_step();
+    let tag = format!("{}_{}mm", model.tag(), nominal * 1e3);
+    let sub = dir.join(&tag);
+    let (tips, spacing, wall_s) = match model {
         Model::Fem => {
-            let out = fem::run(&fem_scene).context("FE sweep run")?;
-            (models::fem_tips(&out), h)
+            let job = Job {
+                scene: &point.fem,
+                label: &tag,
+                dir: &sub,
+                keep: Keep::OnFailure,
+            };
+            let f = run_fem(job, &Silent)?;
+            let wall = f.wall_s;
+            (fem_tips(&f.completed()?), point.fem.fem.element_size, wall)
         }
         Model::Spectral => {
-            let n = spectral_points(spectral_length(&text)?, nominal);
-            let text = with_overrides(&text, &[("spectral.grid_points", Some(Value::Integer(n as i64)))])?;
-            let scene = models::spectral_scene(&text, friction, dt)?;
-            let out = spectral::run(&scene).context("spectral sweep run")?;
-            (models::spectral_tips(&out), spectral_length(&text)? / n as f64)
+            let scene = point.spectral()?.with_time_step(dt)?;
+            let job = Job {
+                scene: &scene,
+                label: &tag,
+                dir: &sub,
+                keep: Keep::OnFailure,
+            };
+            let f = run_spectral(job, &Silent)?;
+            let wall = f.wall_s;
+            (spectral_tips(&f.completed()?), scene.grid_spacing(), wall)
         }
     };
-    let wall_s = start.elapsed().as_secs_f64();
     std::fs::create_dir_all(dir)?;
-    let name = format!("tips_{}_{}mm.csv", model.tag(), nominal * 1e3);
-    crate::output::write_rows(&dir.join(name), &tips)?;
+    crate::output::write_rows(&dir.join(format!("tips_{tag}.csv")), &tips)?;
     let l = Series::half_length(&tips);
     Ok(Point {
         model,
@@ -202,9 +202,9 @@ pub fn print_point(p: &Point) -> Result<()> {
     Ok(())
 }
 
-/// Writes `sweep.csv` and `sweep_error_vs_wall_time.png` (log10–log10) into `dir`.
+/// Writes `sweep.csv` and `sweep_error_vs_wall_time.png` (log–log axes) into `dir`.
 pub fn write_results(dir: &std::path::Path, rows: &[Point]) -> Result<Vec<std::path::PathBuf>> {
-    use crate::plot::{Curve, Dash, Labels, PALETTE, line_chart};
+    use crate::plot::{Curve, Dash, Labels, LineChart, LogAxes, draw};
     std::fs::create_dir_all(dir)?;
     let csv_path = crate::output::write_rows(&dir.join("sweep.csv"), rows)?;
     let mut curves = Vec::new();
@@ -214,49 +214,43 @@ pub fn write_results(dir: &std::path::Path, rows: &[Point]) -> Result<Vec<std::p
     {
         let pick = |f: fn(&Point) -> f64| -> Vec<(f64, f64)> {
             rows.iter()
-                .filter(|r| r.model == model && f(r) > 0.0)
-                .map(|r| (r.wall_s.log10(), f(r).log10()))
+                .filter(|r| r.model == model)
+                .map(|r| (r.wall_s, f(r)))
                 .collect()
         };
-        let onset = pick(|r| r.onset_error_over_t);
-        let speed = pick(|r| r.speed_error_rel);
-        let color = PALETTE[i];
-        curves.push(Curve {
-            label: format!("{name}: onset error / T"),
-            points: onset,
-            color,
-            dash: Dash::Solid,
-        });
-        curves.push(Curve {
-            label: format!("{name}: mean-speed rel. error"),
-            points: speed,
-            color,
-            dash: Dash::Dashed,
-        });
+        curves.push(Curve::nth(
+            format!("{name}: onset error / T"),
+            pick(|r| r.onset_error_over_t),
+            i,
+            Dash::Solid,
+        ));
+        curves.push(Curve::nth(
+            format!("{name}: mean-speed rel. error"),
+            pick(|r| r.speed_error_rel),
+            i,
+            Dash::Dashed,
+        ));
     }
     let png = dir.join("sweep_error_vs_wall_time.png");
-    let labels = Labels {
-        title: "Error against the finest run vs cost",
-        x: "log10(wall time [s])",
-        y: "log10(error [-])",
+    let chart = LineChart {
+        labels: Labels {
+            title: "Error against the finest run of each model, against the run's cost",
+            x: "wall time [s]",
+            y: "error [-]",
+        },
+        curves: &curves,
+        marks: &[],
+        shading: None,
+        log: LogAxes { x: true, y: true },
+        y_range: None,
     };
-    line_chart(&png, labels, &curves, &[])?;
+    draw(&png, &chart)?;
     Ok(vec![csv_path, png])
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn sizes_keep_the_crack_tip_on_a_node_and_grids_are_powers_of_two() {
-        let a = 0.125;
-        assert!((fem_size(a, 4e-3) - a / 31.0).abs() < 1e-15);
-        assert!((fem_size(a, 1e-3) - 1e-3).abs() < 1e-15);
-        assert_eq!(spectral_points(3.75, 4e-3), 1024);
-        assert_eq!(spectral_points(3.75, 1e-3), 4096);
-        assert_eq!(spectral_points(3.75, 0.5e-3), 8192);
-    }
 
     #[test]
     fn errors_are_measured_against_the_finest_point_of_each_model() {

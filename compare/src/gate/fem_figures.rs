@@ -1,0 +1,219 @@
+//! FE-only figures of the paper's Section 3 for one friction value: damage (Fig. 5b),
+//! interpenetration (6a), traction ratio (6b), mean contact tractions (6c), energies (B.14a) and
+//! the Appendix B ratio E_kin/E_int with its quasi-static estimate.
+
+use crate::output::write_rows;
+use crate::plot::{self, Curve, Dash, Field, Labels, LineChart, LogAxes, Mark, Scale};
+use crate::quasi_static::{LIMIT, RATIO_AXIS, max_ratio, ratio_rows};
+use crate::series::{Series, onset};
+use crate::study::Case;
+use anyhow::Result;
+use plotters::style::{BLACK, RGBColor};
+use std::path::{Path, PathBuf};
+
+/// Start of the phase Appendix B is tested in, t/T [-]: the normal load is held from 0.1 T, and
+/// 0.2 T leaves the start-up behind; the phase ends at the onset of propagation.
+pub const QUASI_STATIC_FROM_OVER_T: f64 = 0.2;
+
+fn finite_max(values: impl Iterator<Item = f64>) -> f64 {
+    values.filter(|v| v.is_finite()).fold(0.0, f64::max)
+}
+
+fn space_time_labels(title: &str) -> Labels<'_> {
+    Labels {
+        title,
+        x: "(x − x_c)/a [-]",
+        y: "t/T [-]",
+    }
+}
+
+/// Draws Figures 5b, 6a, 6b, 6c, B.14a and the Appendix B ratio for the FE run `out` of `scene`
+/// into `dir`.
+pub fn fem_figures(
+    dir: &Path,
+    case: &Case,
+    scene: &fem::Scene,
+    out: &fem::RunOutput,
+) -> Result<Vec<PathBuf>> {
+    let mu = scene.friction_coeff;
+    let field = |samples: &mut dyn Iterator<Item = (f64, f64, f64)>| {
+        Field::from_samples(
+            samples,
+            |x| (x - case.center_x) / case.half_length,
+            |t| t / case.duration,
+        )
+    };
+    let mut written = Vec::new();
+
+    let damage = field(
+        &mut out
+            .interface
+            .iter()
+            .map(|r| (r.t, r.x, if r.inserted { r.damage } else { f64::NAN })),
+    );
+    let p = dir.join("fig5b_damage_space_time.png");
+    let title = format!("FE damage, μ = {mu} (grey: no cohesive element)");
+    plot::space_time(
+        &p,
+        space_time_labels(&title),
+        &damage,
+        &Scale::new(0.0, 1.0, "damage d [-]"),
+    )?;
+    written.push(p);
+
+    let pct = 100.0 / (2.0 * case.half_length);
+    let pen = field(&mut out.faces.iter().map(|r| (r.t, r.x, r.penetration * pct)));
+    let top = finite_max(pen.values.iter().flatten().copied()).max(1e-6);
+    let p = dir.join("fig6a_penetration_space_time.png");
+    let title = format!("FE interpenetration on the upper face, μ = {mu}");
+    plot::space_time(
+        &p,
+        space_time_labels(&title),
+        &pen,
+        &Scale::new(0.0, top, "g/(2a) [%]"),
+    )?;
+    written.push(p);
+
+    let ratio = field(&mut out.faces.iter().map(|r| {
+        let v = if r.normal_traction > 0.0 {
+            r.tangential_traction / r.normal_traction
+        } else {
+            f64::NAN
+        };
+        (r.t, r.x, v)
+    }));
+    let p = dir.join("fig6b_traction_ratio_space_time.png");
+    let title = format!("FE ‖T_t‖/‖T_n‖ on the upper face, μ = {mu} (grey: no contact)");
+    let top = (2.0 * mu).max(0.1);
+    plot::space_time(
+        &p,
+        space_time_labels(&title),
+        &ratio,
+        &Scale::new(0.0, top, "‖T_t‖/‖T_n‖ [-]"),
+    )?;
+    written.push(p);
+
+    written.push(mean_tractions(dir, case, mu, out)?);
+    written.push(energies(dir, case, mu, out)?);
+    written.extend(energy_ratio(dir, case, scene, out)?);
+    Ok(written)
+}
+
+fn mean_tractions(dir: &Path, case: &Case, mu: f64, out: &fem::RunOutput) -> Result<PathBuf> {
+    let tt = |t: f64| t / case.duration;
+    let normal = out
+        .contact
+        .iter()
+        .map(|r| (tt(r.t), r.mean_normal_traction / 1e6))
+        .collect();
+    let tangential = out
+        .contact
+        .iter()
+        .map(|r| (tt(r.t), r.mean_tangential_traction / 1e6))
+        .collect();
+    let expected = case.normal_stress.abs() / 1e6;
+    let marks = [
+        Mark::Horizontal(expected, BLACK, format!("|s_yy| = {expected} MPa")),
+        Mark::Horizontal(
+            mu * expected,
+            RGBColor(120, 120, 120),
+            format!("μ|s_yy| = {:.4} MPa", mu * expected),
+        ),
+    ];
+    let curves = [
+        Curve::nth("mean normal traction", normal, 0, Dash::Solid),
+        Curve::nth("mean tangential traction", tangential, 1, Dash::Solid),
+    ];
+    let p = dir.join("fig6c_mean_tractions.png");
+    let title = format!("FE mean contact tractions on the upper face, μ = {mu}");
+    let labels = Labels {
+        title: &title,
+        x: "t/T [-]",
+        y: "traction [MPa]",
+    };
+    plot::line_chart(&p, labels, &curves, &marks)?;
+    Ok(p)
+}
+
+fn energies(dir: &Path, case: &Case, mu: f64, out: &fem::RunOutput) -> Result<PathBuf> {
+    let tt = |t: f64| t / case.duration;
+    let kinetic = out.energy.iter().map(|r| (tt(r.t), r.kinetic)).collect();
+    let strain = out.energy.iter().map(|r| (tt(r.t), r.strain)).collect();
+    let curves = [
+        Curve::nth("kinetic E_kin", kinetic, 0, Dash::Solid),
+        Curve::nth("internal (strain) E_int", strain, 1, Dash::Solid),
+    ];
+    let p = dir.join("figB14a_energies.png");
+    let title = format!("FE kinetic and internal energy, μ = {mu}");
+    let labels = Labels {
+        title: &title,
+        x: "t/T [-]",
+        y: "energy per unit thickness [J/m]",
+    };
+    plot::line_chart(&p, labels, &curves, &[])?;
+    Ok(p)
+}
+
+/// The tested phase of Appendix B for the centre crack: [0.2 T, onset] [s]; `None` without onset.
+pub fn quasi_static_window(case: &Case, out: &fem::RunOutput) -> Option<(f64, f64)> {
+    let tips = crate::runner::fem_tips(out);
+    let t_on = onset(&Series::half_length(&tips), case.half_length)?;
+    Some((QUASI_STATIC_FROM_OVER_T * case.duration, t_on))
+}
+
+fn energy_ratio(dir: &Path, case: &Case, scene: &fem::Scene, out: &fem::RunOutput) -> Result<Vec<PathBuf>> {
+    let mu = scene.friction_coeff;
+    let rows = ratio_rows(&format!("FE μ = {mu}"), scene, out);
+    let measured = rows
+        .iter()
+        .map(|r| (r.t_over_t, r.kinetic_over_internal))
+        .collect();
+    let estimate = rows
+        .iter()
+        .map(|r| (r.t_over_t, r.quasi_static_estimate))
+        .collect();
+    let whole = max_ratio(out, 0.0, f64::INFINITY).map_or(f64::NAN, |m| m.0);
+    let mut marks = vec![Mark::Horizontal(
+        LIMIT,
+        BLACK,
+        format!("{} % (App. B)", 100.0 * LIMIT),
+    )];
+    let window = quasi_static_window(case, out);
+    let phase = match window.and_then(|(t0, t1)| max_ratio(out, t0, t1).map(|m| (t0, t1, m))) {
+        Some((t0, t1, (m, at))) => {
+            marks.push(Mark::Vertical(t0 / case.duration, BLACK));
+            marks.push(Mark::Vertical(t1 / case.duration, BLACK));
+            format!(
+                "0.2 T to onset (dashed) at most {:.2} % at t/T = {:.3}",
+                100.0 * m,
+                at / case.duration
+            )
+        }
+        None => "no onset: the tested phase is empty".to_string(),
+    };
+    let curves = [
+        Curve::nth(
+            format!("measured: {phase}; whole run at most {:.0} %", 100.0 * whole),
+            measured,
+            0,
+            Dash::Solid,
+        ),
+        Curve::nth("the imposed quasi-static motion alone", estimate, 1, Dash::Dashed),
+    ];
+    let title = format!("Kinetic over internal energy, FE μ = {mu} (Appendix B, Figure B.14a)");
+    let p = dir.join("figB14a_energy_ratio.png");
+    let chart = LineChart {
+        labels: Labels {
+            title: &title,
+            x: "t/T [-]",
+            y: "E_kin/E_int [-]",
+        },
+        curves: &curves,
+        marks: &marks,
+        shading: None,
+        log: LogAxes { x: false, y: true },
+        y_range: Some(RATIO_AXIS),
+    };
+    plot::draw(&p, &chart)?;
+    Ok(vec![p, write_rows(&dir.join("figB14a_energy_ratio.csv"), &rows)?])
+}

@@ -1,0 +1,165 @@
+//! Running one model: progress reporting, the run, its full output written to a folder, and an
+//! unstable run kept with its partial output. Every study runs its models through here; the
+//! harness reaches `fem` and `spectral` only through their `run_with_progress`, `write_csv` and
+//! output records (docs/solver-api.md).
+
+use crate::series::TipRow;
+use anyhow::{Context, Result};
+use std::path::Path;
+use std::time::Instant;
+
+/// Progress reporting for long runs: the binary draws progress bars, tests stay silent.
+pub trait Reporter: Sync {
+    /// A run labelled `label` starts; returns its callback `(steps_done, total_steps)`.
+    fn run_started(&self, label: &str) -> Box<dyn FnMut(u64, u64) + Send + '_>;
+}
+
+/// A reporter that reports nothing.
+pub struct Silent;
+
+impl Reporter for Silent {
+    fn run_started(&self, _label: &str) -> Box<dyn FnMut(u64, u64) + Send + '_> {
+        Box::new(|_, _| {})
+    }
+}
+
+/// How a run ended.
+#[derive(Debug, Clone)]
+pub struct Finished<O> {
+    /// The output: complete, or up to the failure.
+    pub out: O,
+    /// Wall time of the run [s].
+    pub wall_s: f64,
+    /// Why the run stopped before T, with when and where (`None`: it reached T).
+    pub failure: Option<String>,
+}
+
+impl<O> Finished<O> {
+    /// The output of a run that reached T; an error naming the failure otherwise.
+    pub fn completed(self) -> Result<O> {
+        match self.failure {
+            None => Ok(self.out),
+            Some(f) => Err(anyhow::anyhow!(f)),
+        }
+    }
+}
+
+/// When a run's full output is written to its folder.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Keep {
+    /// Always (the studies that show a run's fields).
+    Everything,
+    /// Only when the run goes unstable, to show where (the studies that keep a summary per run).
+    OnFailure,
+}
+
+impl Keep {
+    fn writes(self, failed: bool) -> bool {
+        self == Keep::Everything || failed
+    }
+}
+
+/// What an unstable run reports: when, where, and where its partial output went.
+fn unstable(label: &str, dir: &Path, step: u64, time_s: f64, location: &str) -> String {
+    format!(
+        "{label}: unstable at step {step}, t = {time_s:e} s ({location}); its output up to there is in {}",
+        dir.display()
+    )
+}
+
+/// A model run: the scene, its label in progress and messages, the folder of its full output
+/// and when that output is written.
+#[derive(Debug, Clone, Copy)]
+pub struct Job<'a, S> {
+    /// The validated scene.
+    pub scene: &'a S,
+    /// Label of the run.
+    pub label: &'a str,
+    /// Folder of its full output.
+    pub dir: &'a Path,
+    /// When the full output is written.
+    pub keep: Keep,
+}
+
+/// Runs an FE job; an unstable run ends with `failure` saying when and where, and its partial
+/// output written. Other errors stop the study.
+pub fn run_fem(job: Job<fem::Scene>, rep: &dyn Reporter) -> Result<Finished<fem::RunOutput>> {
+    let Job {
+        scene,
+        label,
+        dir,
+        keep,
+    } = job;
+    let mut progress = rep.run_started(label);
+    let start = Instant::now();
+    let result = fem::run_with_progress(scene, &mut *progress);
+    let wall_s = start.elapsed().as_secs_f64();
+    let (out, failure) = match result {
+        Ok(out) => (out, None),
+        Err(fem::RunError::Unstable {
+            step,
+            time_s,
+            location,
+            partial,
+        }) => (*partial, Some(unstable(label, dir, step, time_s, &location))),
+        Err(e) => return Err(e).context(label.to_string()),
+    };
+    if keep.writes(failure.is_some()) {
+        fem::write_csv(&out, dir).with_context(|| format!("{label}: writing {}", dir.display()))?;
+    }
+    Ok(Finished { out, wall_s, failure })
+}
+
+/// Runs a spectral job, as [`run_fem`].
+pub fn run_spectral(job: Job<spectral::Scene>, rep: &dyn Reporter) -> Result<Finished<spectral::RunOutput>> {
+    let Job {
+        scene,
+        label,
+        dir,
+        keep,
+    } = job;
+    let mut progress = rep.run_started(label);
+    let start = Instant::now();
+    let result = spectral::run_with_progress(scene, &mut *progress);
+    let wall_s = start.elapsed().as_secs_f64();
+    let (out, failure) = match result {
+        Ok(out) => (out, None),
+        Err(spectral::RunError::Unstable {
+            step,
+            time_s,
+            location,
+            partial,
+        }) => (*partial, Some(unstable(label, dir, step, time_s, &location))),
+        Err(e) => return Err(e).context(label.to_string()),
+    };
+    if keep.writes(failure.is_some()) {
+        spectral::write_csv(&out, dir).with_context(|| format!("{label}: writing {}", dir.display()))?;
+    }
+    Ok(Finished { out, wall_s, failure })
+}
+
+/// A model's tip records as harness rows (both crates' `TipRecord`s have the same fields).
+macro_rules! tip_rows {
+    ($records:expr) => {
+        $records
+            .iter()
+            .map(|r| TipRow {
+                t: r.t,
+                tip_right: r.tip_right,
+                tip_left: r.tip_left,
+                cz_tip_right: r.cz_tip_right,
+                cz_tip_left: r.cz_tip_left,
+            })
+            .collect()
+    };
+}
+
+/// Tip rows of an FE run.
+pub fn fem_tips(out: &fem::RunOutput) -> Vec<TipRow> {
+    tip_rows!(out.tips)
+}
+
+/// Tip rows of a spectral run.
+pub fn spectral_tips(out: &spectral::RunOutput) -> Vec<TipRow> {
+    tip_rows!(out.tips)
+}

@@ -1,0 +1,323 @@
+//! The scene read once: the file is parsed into the FE scene, the spectral scene (when the file
+//! has a `[spectral]` section) and the harness's own `[compare]` section. Every run of a study is
+//! derived from these typed values (`fem::Scene::with_friction_coeff`, ...), never by rewriting
+//! the TOML text, so errors quote the user's own lines.
+
+use anyhow::{Context, Result, anyhow};
+use serde::Deserialize;
+use std::path::Path;
+
+/// An FE model the Section 4 study runs (`[compare].models`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ModelName {
+    /// Contact through the cohesive law (paper eq. 4).
+    Standard,
+    /// Node-to-segment contact (paper §2).
+    Hybrid,
+}
+
+impl ModelName {
+    /// The name as written in a scene and in file names.
+    pub fn tag(self) -> &'static str {
+        match self {
+            ModelName::Standard => "standard",
+            ModelName::Hybrid => "hybrid",
+        }
+    }
+
+    /// The FE model kind.
+    pub fn kind(self) -> fem::scene::ModelKind {
+        match self {
+            ModelName::Standard => fem::scene::ModelKind::Standard,
+            ModelName::Hybrid => fem::scene::ModelKind::Hybrid,
+        }
+    }
+}
+
+/// The `[compare]` section: what the harness's jobs run. Unknown keys are refused.
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CompareSection {
+    /// Friction coefficients the FE-versus-spectral gate runs [-].
+    pub friction_coeffs: Option<Vec<f64>>,
+    /// FE models the Section 4 study runs, in order.
+    pub models: Option<Vec<ModelName>>,
+    /// Time of the Section 4 maps and profiles over T [-].
+    #[serde(rename = "snapshot_t_over_T")]
+    pub snapshot_t_over_t: Option<f64>,
+}
+
+/// The parts of the file the harness reads itself; everything else belongs to the models.
+#[derive(Debug, Deserialize)]
+struct HarnessPart {
+    compare: Option<CompareSection>,
+    spectral: Option<serde::de::IgnoredAny>,
+}
+
+/// Scale quantities of a scene, from its FE scene.
+#[derive(Debug, Clone, Copy)]
+pub struct Case {
+    /// Pre-crack half-length a [m].
+    pub half_length: f64,
+    /// Pre-crack centre x [m].
+    pub center_x: f64,
+    /// Run duration T [s].
+    pub duration: f64,
+    /// Dilatational wave speed c_d [m/s].
+    pub cd: f64,
+    /// Rayleigh wave speed c_R [m/s].
+    pub cr: f64,
+    /// Far-field normal stress after its ramp, s_yy [Pa] (negative in compression).
+    pub normal_stress: f64,
+}
+
+impl Case {
+    /// The a/c_d time shift [s] applied to the spectral curves (paper Figure 7b): the time a
+    /// dilatational wave needs from the FE model's top boundary (y = a) to the crack plane.
+    pub fn shift(&self) -> f64 {
+        self.half_length / self.cd
+    }
+}
+
+/// A scene file, read once.
+#[derive(Debug, Clone)]
+pub struct Study {
+    /// File name without extension: the default output folder's name.
+    pub stem: String,
+    /// The FE scene.
+    pub fem: fem::Scene,
+    /// The spectral scene (`None`: the file has no `[spectral]` section).
+    pub spectral: Option<spectral::Scene>,
+    /// The `[compare]` section (all keys absent when the file has none).
+    pub compare: CompareSection,
+}
+
+impl Study {
+    /// Reads and parses the scene file at `path`.
+    pub fn load(path: &Path) -> Result<Study> {
+        let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+        let stem = path
+            .file_stem()
+            .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
+        Study::from_toml_str(&text, &stem).with_context(|| format!("scene {}", path.display()))
+    }
+
+    /// Parses scene `text`; `stem` names the default output folder.
+    pub fn from_toml_str(text: &str, stem: &str) -> Result<Study> {
+        let fem = fem::Scene::from_toml_str(text).context("FE model")?;
+        let harness: HarnessPart = toml::from_str(text).context("[compare]")?;
+        let spectral = harness
+            .spectral
+            .map(|_| spectral::Scene::from_toml_str(text))
+            .transpose()
+            .context("spectral model")?;
+        Ok(Study {
+            stem: stem.to_string(),
+            fem,
+            spectral,
+            compare: harness.compare.unwrap_or_default(),
+        })
+    }
+
+    /// The same study at nominal element size h [m]: the FE model at h = a/round(a/h) (the
+    /// pre-crack tips stay on nodes), the spectral model (if any) on the power-of-two grid
+    /// nearest its periodic length over h. Both are validated again.
+    pub fn at_resolution(&self, nominal: f64) -> Result<Study> {
+        let h = fem_size(self.fem.half_length(), nominal);
+        let fem = self
+            .fem
+            .with_element_size(h)
+            .with_context(|| format!("the FE model at h = {h:e} m"))?;
+        let spectral = self
+            .spectral
+            .as_ref()
+            .map(|s| {
+                let n = spectral_points(s.length, nominal);
+                s.with_grid_points(n)
+                    .with_context(|| format!("the spectral model on N = {n} points"))
+            })
+            .transpose()?;
+        Ok(Study {
+            fem,
+            spectral,
+            ..self.clone()
+        })
+    }
+
+    /// The spectral scene, which jobs comparing the two models need.
+    pub fn spectral(&self) -> Result<&spectral::Scene> {
+        self.spectral
+            .as_ref()
+            .ok_or_else(|| anyhow!("[spectral]: missing; this job runs the spectral model"))
+    }
+
+    /// Scale quantities of the case.
+    pub fn case(&self) -> Case {
+        let w = self.fem.wave_speeds();
+        Case {
+            half_length: self.fem.half_length(),
+            center_x: self.fem.center_x(),
+            duration: self.fem.duration(),
+            cd: w.cd,
+            cr: w.cr,
+            normal_stress: self.fem.loading.normal.final_value,
+        }
+    }
+
+    /// `[compare].friction_coeffs` [-]: a non-empty list of distinct values the FE model
+    /// accepts (each friction variant is validated here, before any run).
+    pub fn friction_coeffs(&self) -> Result<Vec<f64>> {
+        let mus =
+            self.compare.friction_coeffs.clone().ok_or_else(|| {
+                anyhow!("compare.friction_coeffs: missing; expected a list such as [0, 0.3]")
+            })?;
+        if mus.is_empty() {
+            return Err(anyhow!(
+                "compare.friction_coeffs = []: give at least one friction coefficient"
+            ));
+        }
+        for (k, mu) in mus.iter().enumerate() {
+            if mus[..k].contains(mu) {
+                return Err(anyhow!(
+                    "compare.friction_coeffs: {mu} is listed twice (each run writes its own folder)"
+                ));
+            }
+            self.fem
+                .with_friction_coeff(*mu)
+                .with_context(|| format!("compare.friction_coeffs = {mus:?}"))?;
+        }
+        Ok(mus)
+    }
+
+    /// `[compare].models`: a non-empty list without repeats.
+    pub fn models(&self) -> Result<Vec<ModelName>> {
+        let models = self.compare.models.clone().ok_or_else(|| {
+            anyhow!("compare.models: missing; expected a list such as [\"standard\", \"hybrid\"]")
+        })?;
+        if models.is_empty() {
+            return Err(anyhow!("compare.models = []: give at least one model"));
+        }
+        for (k, m) in models.iter().enumerate() {
+            if models[..k].contains(m) {
+                return Err(anyhow!(
+                    "compare.models: \"{}\" is listed twice (each run writes its own folder)",
+                    m.tag()
+                ));
+            }
+        }
+        Ok(models)
+    }
+
+    /// `[compare].snapshot_t_over_T` [-], in (0, 1].
+    pub fn snapshot_t_over_t(&self) -> Result<f64> {
+        let t = self
+            .compare
+            .snapshot_t_over_t
+            .ok_or_else(|| anyhow!("compare.snapshot_t_over_T: missing; expected a number in (0, 1]"))?;
+        if t > 0.0 && t <= 1.0 {
+            Ok(t)
+        } else {
+            Err(anyhow!(
+                "compare.snapshot_t_over_T = {t} out of range; allowed (0, 1]"
+            ))
+        }
+    }
+}
+
+/// FE element size [m] for a nominal one: a/round(a/h), so the pre-crack tips stay on nodes
+/// (the nominal h when there is no pre-crack).
+pub fn fem_size(a: f64, nominal: f64) -> f64 {
+    if a > 0.0 {
+        a / (a / nominal).round().max(1.0)
+    } else {
+        nominal
+    }
+}
+
+/// Spectral grid points for a nominal spacing [m] over a periodic length [m]: the power of two
+/// nearest to length/nominal.
+pub fn spectral_points(length: f64, nominal: f64) -> usize {
+    let n = (length / nominal).log2().round().clamp(2.0, 30.0) as u32;
+    1usize << n
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn text(name: &str) -> String {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../scenes/{name}.toml"));
+        std::fs::read_to_string(path).unwrap()
+    }
+
+    #[test]
+    fn the_center_crack_has_both_models_and_two_friction_values() {
+        let s = Study::from_toml_str(&text("center-crack"), "center-crack").unwrap();
+        assert!(s.spectral.is_some());
+        assert_eq!(s.friction_coeffs().unwrap(), vec![0.0, 0.3]);
+        let c = s.case();
+        assert!(
+            (c.shift() / c.duration - 0.02068).abs() < 1e-4,
+            "a/c_d = 0.0207 T"
+        );
+    }
+
+    #[test]
+    fn the_sinusoid_has_no_spectral_part_and_two_models() {
+        let s = Study::from_toml_str(&text("sinusoidal-interface"), "s").unwrap();
+        assert!(s.spectral.is_none());
+        assert!(s.spectral().unwrap_err().to_string().contains("[spectral]"));
+        assert_eq!(s.models().unwrap(), [ModelName::Standard, ModelName::Hybrid]);
+        assert!(s.snapshot_t_over_t().unwrap() > 0.0);
+    }
+
+    #[test]
+    fn bad_compare_keys_are_refused_with_the_users_line() {
+        let base = text("center-crack");
+        let typo = base.replace("friction_coeffs =", "friction_coefs =");
+        let e = format!("{:#}", Study::from_toml_str(&typo, "x").unwrap_err());
+        let line = typo.lines().position(|l| l.contains("friction_coefs")).unwrap() + 1;
+        assert!(
+            e.contains("friction_coefs") && e.contains(&format!("line {line}")),
+            "{e}"
+        );
+        let dup = base.replace("friction_coeffs = [0.0, 0.3]", "friction_coeffs = [0.3, 0.3]");
+        let e = Study::from_toml_str(&dup, "x")
+            .unwrap()
+            .friction_coeffs()
+            .unwrap_err();
+        assert!(e.to_string().contains("twice"), "{e}");
+        let big = base.replace("friction_coeffs = [0.0, 0.3]", "friction_coeffs = [0.0, 100.0]");
+        let e = format!(
+            "{:#}",
+            Study::from_toml_str(&big, "x")
+                .unwrap()
+                .friction_coeffs()
+                .unwrap_err()
+        );
+        assert!(e.contains("friction.friction_coeff = 100"), "{e}");
+        let s = text("sinusoidal-interface").replace("\"hybrid\"]", "\"hybird\"]");
+        let e = format!("{:#}", Study::from_toml_str(&s, "x").unwrap_err());
+        assert!(e.contains("hybird"), "{e}");
+    }
+
+    #[test]
+    fn sizes_keep_the_crack_tip_on_a_node_and_grids_are_powers_of_two() {
+        let a = 0.125;
+        assert!((fem_size(a, 4e-3) - a / 31.0).abs() < 1e-15);
+        assert!((fem_size(a, 1e-3) - 1e-3).abs() < 1e-15);
+        assert_eq!(spectral_points(3.75, 4e-3), 1024);
+        assert_eq!(spectral_points(3.75, 1e-3), 4096);
+        assert_eq!(spectral_points(3.75, 0.5e-3), 8192);
+    }
+
+    #[test]
+    fn a_finer_study_refines_both_models() {
+        let s = Study::from_toml_str(&text("center-crack"), "c").unwrap();
+        let fine = s.at_resolution(0.5e-3).unwrap();
+        assert!((fine.fem.fem.element_size - 0.5e-3).abs() < 1e-15);
+        assert_eq!(fine.spectral.unwrap().grid_points, 8192);
+        assert_eq!(fine.compare, s.compare);
+    }
+}
