@@ -75,7 +75,7 @@ impl Series {
 
     /// Local least-squares slope dy/dt over the samples within ±`half_width` [s] of each time.
     /// Crack tips move one facet or grid point at a time, so raw differences are useless; a
-    /// window of a few h/c_R gives a usable speed (fem-method §8). The window is in time, not
+    /// window of a few h/c_R gives a usable speed (docs/fem-model.md §8.1). The window is in time, not
     /// in samples, so histories sampled at different rates get the same smoothing.
     pub fn slope(&self, half_width: f64) -> Series {
         let n = self.t.len();

@@ -1,4 +1,4 @@
-//! Criterion benchmark of the contact pass (fem-method §5; paper Algorithm 1): bucket-grid
+//! Criterion benchmark of the contact pass (docs/fem-model.md §5; paper Algorithm 1): bucket-grid
 //! rebuild + narrow phase + normal penalty + friction return map + averaged scatter, on the two
 //! faces of the centre-crack interface at paper resolution (500 + 500 segments, h = 1 mm),
 //! pressed (p_N ≈ 0.05 MPa) and sliding back and forth with friction μ = 0.3.

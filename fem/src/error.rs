@@ -31,7 +31,7 @@ pub enum SceneError {
     },
     /// A requested time step above the stable limit.
     #[error(
-        "fem.time_step = {dt_s} s exceeds the stable limit {limit_s} s (fem-method §2, paper eq. 12, alpha <= 0.95)"
+        "fem.time_step = {dt_s} s exceeds the stable limit {limit_s} s (docs/fem-model.md §2, paper eq. 12, alpha <= 0.95)"
     )]
     UnstableTimeStep {
         /// Requested step [s].

@@ -60,7 +60,7 @@ pub struct ContactMeanRecord {
     pub max_penetration: f64,
 }
 
-/// Energies [J/m] (fem-method §8), measured from t = 0.
+/// Energies [J/m] (docs/fem-model.md §8.3), measured from t = 0.
 #[derive(Debug, Clone, Copy, Default, Serialize)]
 pub struct EnergyRecord {
     /// Time [s].

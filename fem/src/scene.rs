@@ -123,7 +123,7 @@ impl Scene {
         self.has_contact() || (self.fem.model == ModelKind::Standard && self.interface.is_some())
     }
 
-    /// Largest stable step [s]: fem-method §2 with α = 0.95 (the largest allowed safety factor).
+    /// Largest stable step [s]: docs/fem-model.md §2 with α = 0.95 (the largest allowed safety factor).
     pub fn stable_limit(&self) -> f64 {
         let h = self.fem.min_edge();
         let beta_p = if self.has_penalty() {

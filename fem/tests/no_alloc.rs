@@ -1,4 +1,4 @@
-//! style.md convention 8: no allocation after `build()`. A counting global allocator watches
+//! The no-allocation rule: nothing is allocated after `build()`. A counting global allocator watches
 //! 200 steps of a small centre crack that exercises every part of the step (bulk, Westergaard
 //! boundary, contact with friction, cohesive insertion and law, damping, sampling energies).
 

@@ -1,4 +1,4 @@
-//! Direct truncated history convolution (spectral-method.md §4), fused over the four fields and
+//! Direct truncated history convolution (docs/spectral-model.md §4), fused over the four fields and
 //! three kernels that read the same history, parallel over modes (rayon), no allocation.
 //!
 //! C^K_j(n) = Σ_{l=0}^{min(n+1, L_j)−1} W^K_{j,l} Û_j^{n−l},

@@ -1,4 +1,4 @@
-//! Read-only observers of the state: crack and cohesive-zone tips (spectral-method.md §6), contact
+//! Read-only observers of the state: crack and cohesive-zone tips (docs/spectral-model.md §6), contact
 //! means, space-time field snapshots.
 
 use crate::law::PointState;

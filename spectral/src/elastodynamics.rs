@@ -1,4 +1,4 @@
-//! The elastodynamic operator of both half-spaces (spectral-method.md §2, independent formulation):
+//! The elastodynamic operator of both half-spaces (docs/spectral-model.md §2, independent formulation):
 //! given the face displacements u^{±,n}, returns the history terms f^{±,n} so that
 //! T^± = T^0 ∓ Z v^± + f^± (Z = μ/c_s in x, η μ/c_s in y).
 //!
@@ -176,7 +176,7 @@ impl HalfSpaces {
         }
     }
 
-    /// Records u^n in the history and writes f^n (§4 steps 2–4). Call once per step, in order.
+    /// Records u^n in the history and writes f^n (§4.2 steps 2–4). Call once per step, in order.
     pub fn step(&mut self, u: &FaceFields, f: &mut FaceFields) {
         self.forward(u);
         match &mut self.path {

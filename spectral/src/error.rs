@@ -1,4 +1,5 @@
-//! Typed errors of the spectral solver (style.md convention 9).
+//! Typed errors of the spectral solver (thiserror); each names the field, the value and the
+//! allowed range.
 
 use crate::output::RunOutput;
 

@@ -1,5 +1,5 @@
-//! Fast history convolution (issue 6): with the kernels fitted as K(T) ≈ Σ_p c^K_p e^{λ_p T}
-//! ([`SoeFit`]), the §4 quadrature of mode j becomes, exactly,
+//! Fast history convolution (docs/spectral-model.md §4.3): with the kernels fitted as
+//! K(T) ≈ Σ_p c^K_p e^{λ_p T} ([`SoeFit`]), the §4.1 quadrature of mode j becomes, exactly,
 //!
 //! W^K_{j,l} = ½[K(lΔT_j) + K((l+1)ΔT_j)]ΔT_j = Σ_p g^K_{j,p} z_{j,p}^l,
 //! z_{j,p} = e^{λ_p ΔT_j},  g^K_{j,p} = c^K_p ΔT_j (1 + z_{j,p})/2,

@@ -1,5 +1,5 @@
 //! History of the displacement spectra: one contiguous ring-buffer array with per-mode offsets
-//! (cRacklet layout, spectral-method.md §4). Each entry holds the four fields of one mode at one
+//! (cRacklet layout, docs/spectral-model.md §4). Each entry holds the four fields of one mode at one
 //! past step, so the fused convolution streams one array.
 
 use rustfft::num_complex::Complex64;

@@ -1,4 +1,4 @@
-//! Convolution kernels H11, H22, K12 of the independent formulation (spectral-method.md §3), computed
+//! Convolution kernels H11, H22, K12 of the independent formulation (docs/spectral-model.md §3), computed
 //! from their exact branch-cut integrals (§3.2) by Gauss–Legendre quadrature. Pure.
 //!
 //! H11(T) = (2/π)[∫_0^η η√(η²−y²) cos(yT)/(1+η²−y²) dy + ∫_0^1 (η²−y²)√(1−y²) cos(yT)/(1+η²−y²) dy]
@@ -30,7 +30,7 @@ pub struct Kernels {
     nodes: Vec<Node>,
 }
 
-/// Kernel values sampled at T = m ΔT, m = 0..len (spectral-method.md §3.3: every sample point the
+/// Kernel values sampled at T = m ΔT, m = 0..len (docs/spectral-model.md §3.3: every sample point the
 /// scheme needs is an integer multiple of ΔT_1 = 2πβ/N).
 #[derive(Debug, Clone)]
 pub struct KernelTable {

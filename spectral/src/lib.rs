@@ -2,7 +2,7 @@
 //! elastic half-spaces (plane strain, modes I + II), in the independent formulation of Breitenfeld &
 //! Geubelle (1998) as implemented in cRacklet, with the linear coupled cohesive law, contact by
 //! matching normal displacements and Prakash-regularised Coulomb friction (Pundir & Anciaux 2020,
-//! §3.2). Specification: shared/docs/spectral-method.md. SI units throughout.
+//! §3.2). Method notes: docs/spectral-model.md. SI units throughout.
 //!
 //! Public surface: [`Scene`], [`run`], [`run_with_progress`], [`RunOutput`], [`TipRecord`], errors;
 //! the building blocks ([`kernels`], [`elastodynamics`], [`law`]) are public for verification.

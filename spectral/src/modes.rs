@@ -1,4 +1,4 @@
-//! Wave numbers and per-mode truncation windows (spectral-method.md §3.4, §4).
+//! Wave numbers and per-mode truncation windows (docs/spectral-model.md §3.4, §4).
 
 use std::f64::consts::PI;
 

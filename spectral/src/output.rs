@@ -6,7 +6,7 @@ use serde::Serialize;
 
 /// One sample of the crack-tip history (docs/solver-api.md). Positions are x coordinates [m] in the
 /// scene frame (the pre-crack spans center_x ± half_length); t [s] is the time at which the
-/// displacements that define the tips hold (t_n = n Δt, spectral-method.md §8.8), unshifted.
+/// displacements that define the tips hold (t_n = n Δt, docs/spectral-model.md §8.8), unshifted.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct TipRecord {
     /// Time t [s].

@@ -16,11 +16,11 @@ pub struct WaveSpeeds {
     pub cr: f64,
 }
 
-/// History-convolution path (issue 6).
+/// History-convolution path (docs/spectral-model.md §4.1, §4.3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Convolution {
-    /// Truncated direct convolution of spectral-method.md §4 (the reference path).
+    /// Truncated direct convolution of docs/spectral-model.md §4 (the reference path).
     Direct,
     /// Recursive convolution with sum-of-exponentials kernels; cost independent of the history length.
     Fast,
@@ -124,7 +124,7 @@ struct RawSpectral {
     nucleation: Option<Nucleation>,
 }
 
-/// Default relative accuracy of the sum-of-exponentials kernel fit (issue 6) [-].
+/// Default relative accuracy of the sum-of-exponentials kernel fit (docs/spectral-model.md §4.3) [-].
 pub const DEFAULT_FAST_TOLERANCE: f64 = 1e-5;
 
 /// A validated scene: the shared problem plus the spectral discretisation. SI units.
@@ -367,7 +367,7 @@ fn validate(r: RawScene) -> Result<Scene, SceneError> {
                 "spectral.cs_dt_over_dx",
                 b,
                 b > 0.0 && b <= 0.5,
-                "(0, 0.5] (spectral-method.md §7.8)",
+                "(0, 0.5] (docs/spectral-model.md §7.8)",
             )?;
             b
         }
@@ -377,7 +377,7 @@ fn validate(r: RawScene) -> Result<Scene, SceneError> {
                 "spectral.time_step",
                 dt,
                 b > 0.0 && b <= 0.5,
-                "(0, 0.5 dx/c_s] i.e. c_s dt/dx in (0, 0.5] (§7.8)",
+                "(0, 0.5 dx/c_s] i.e. c_s dt/dx in (0, 0.5] (docs/spectral-model.md §7.8)",
             )?;
             b
         }

@@ -1,4 +1,4 @@
-//! Sum-of-exponentials fit of the three kernels with shared poles (issue 6):
+//! Sum-of-exponentials fit of the three kernels with shared poles (docs/spectral-model.md §4.3):
 //! K(T) ≈ Re-consistent Σ_p c^K_p exp(λ_p T), Re λ_p < 0, on [0, tcut].
 //!
 //! Method: matrix pencil on uniform samples K(m h) (h = 0.25, below the Nyquist spacing π/η of the

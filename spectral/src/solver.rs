@@ -1,4 +1,4 @@
-//! One time step (spectral-method.md §4): FFT → convolution → iFFT (in [`HalfSpaces`]) → interface
+//! One time step (docs/spectral-model.md §4): FFT → convolution → iFFT (in [`HalfSpaces`]) → interface
 //! law (§5) → velocities and tractions; then `advance` updates the displacements. No I/O, no
 //! allocation after `build`.
 
@@ -215,7 +215,7 @@ fn solve_point(
     vmax.is_nan() || vmax > model.v_limit
 }
 
-/// u^{n+1} = u^n + Δt v^n (§4 step 7).
+/// u^{n+1} = u^n + Δt v^n (§4.2 step 7).
 pub(crate) fn advance(model: &Model, st: &mut State) {
     let dt = model.dt;
     let u = &mut st.u;

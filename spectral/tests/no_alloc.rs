@@ -1,4 +1,4 @@
-//! style.md convention 8: no allocation after `build()`. Two runs of the same scene that differ only
+//! The no-allocation rule: nothing is allocated after `build()`. Two runs of the same scene that differ only
 //! in the number of steps (100 vs 200) must make the same number of heap allocations, up to rayon's
 //! internal queue blocks: everything the time loop needs is allocated once, before the loop (record
 //! vectors are reserved for the run).

@@ -74,7 +74,8 @@ pub struct MeanTractions {
     pub tangential: Option<f64>,
 }
 
-/// Mean normal traction before onset and mean tangential traction while slipping (issue 3 claim 7).
+/// Mean normal traction before onset and mean tangential traction while slipping (paper §3.3, Fig. 6c:
+/// they should tend to |s_yy| and μ|s_yy|).
 pub fn mean_tractions(scene: &fem::Scene, out: &fem::RunOutput) -> MeanTractions {
     let big_t = scene.duration();
     let onset = first_insertion(out);

@@ -69,7 +69,7 @@ pub fn mean_residual_stress(out: &RunOutput, t0: f64, t1: f64) -> f64 {
     }
 }
 
-/// Time [s] the right crack tip (fem-method §8: every interface point from the pre-crack tip on
+/// Time [s] the right crack tip (docs/fem-model.md §8.1: every interface point from the pre-crack tip on
 /// fully broken) passes x > a: the latest full-failure time of the points with a < x_q ≤ x (NaN
 /// if one of them never fails). Pre-crack centred at 0, as in the Section 4 scene.
 pub fn tip_passes(out: &RunOutput, a: f64, x: f64) -> f64 {

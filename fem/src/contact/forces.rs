@@ -1,4 +1,4 @@
-//! Contact forces, fem-method §5 and §5.2–5.4: nodal areas and slave normals, the per-slave
+//! Contact forces, docs/fem-model.md §5 and §5.2–5.4: nodal areas and slave normals, the per-slave
 //! normal penalty + friction return map, and the Algorithm 1 averaging as an action = reaction
 //! force scatter with w = ½.
 
@@ -9,11 +9,11 @@ use crate::law::friction::{Friction, FrictionInput, FrictionStep, return_map};
 use crate::law::penalty::normal_pressure;
 
 /// Algorithm 1 averaging weight: each slave keeps ½ of its own force and ½ reaches it back as a
-/// master through the slaves projecting onto its segments (fem-method §5.4).
+/// master through the slaves projecting onto its segments (docs/fem-model.md §5.4).
 pub(crate) const AVERAGING_WEIGHT: f64 = 0.5;
 
 /// Nodal areas A_i = |Σ_{e ∋ i} (L_e/2) n_e| [m] and slave normals n_i = normalise(Σ_{e ∋ i} n_e)
-/// [-] of the nodes of Γ_det, in current positions (fem-method §5).
+/// [-] of the nodes of Γ_det, in current positions (docs/fem-model.md §5).
 ///
 /// Also refills `frames` with every segment's frame (`None` for a degenerate segment).
 /// `area_sum` and `normal_sum` are per-node scratch; only entries of `nodes` are touched.
@@ -48,7 +48,7 @@ pub(crate) fn node_geometry(
     }
 }
 
-/// Friction history of one slave from the previous step (fem-method §5.3).
+/// Friction history of one slave from the previous step (docs/fem-model.md §5.3).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct SlaveHistory {
     /// Master segment nodes (k1, k2) of the previous step's contact element.
@@ -78,13 +78,14 @@ pub(crate) struct ContactResponse {
 /// contact, as in Akantu).
 ///
 /// x_ρ,prev is rebuilt on the **previous** segment with ξ_prev at current positions, so moving
-/// onto a neighbouring segment gives no spurious slip (fem-method §10.18).
+/// onto a neighbouring segment gives no spurious slip (docs/fem-model.md §10.17).
 ///
 /// # Deviation
-/// fem-method §5.3 evaluates x_ρ and x_ρ,prev at the clamped ξ_c. Here both use the unclamped ξ
+/// The plain reading evaluates x_ρ and x_ρ,prev at the clamped ξ_c. Here both use the unclamped ξ
 /// (|ξ| ≤ 1 + ε_ext, so the point stays within ε_ext L/2 of the segment): a slave accepted just
 /// beyond a segment end would otherwise lose the part of its slip past the end for one step and
-/// get it back the next, a dip of the stick traction at every junction. Forces still use ξ_c.
+/// get it back the next, a dip of the stick traction at every junction. Forces still use ξ_c
+/// (docs/fem-model.md §5.3).
 pub(crate) fn respond(
     eps_n: f64,
     law: &Friction,
@@ -121,7 +122,7 @@ pub(crate) fn respond(
     }
 }
 
-/// Algorithm 1 as force averaging (fem-method §5.4), action = reaction:
+/// Algorithm 1 as force averaging (docs/fem-model.md §5.4), action = reaction:
 ///
 /// ```text
 /// f_i += w F,   f_j1 −= w N₁(ξ_c) F,   f_j2 −= w N₂(ξ_c) F

@@ -1,4 +1,4 @@
-//! Node-to-segment projection, paper eq. (5), fem-method §5 "Segment geometry" and §5.1 step 2;
+//! Node-to-segment projection, paper eq. (5), docs/fem-model.md §5 "Segment geometry" and §5.1 step 2;
 //! pure (nalgebra only).
 
 use nalgebra::Vector2;
@@ -46,7 +46,7 @@ pub(crate) fn segment_frame(x_j1: Vector2<f64>, x_j2: Vector2<f64>) -> Option<Se
 
 /// Orthogonal projection of a slave node onto a master segment.
 ///
-/// Sign convention (paper eq. 5, fem-method §5): g = (x_i − ρ)·n_e with n_e the outward normal of
+/// Sign convention (paper eq. 5, docs/fem-model.md §5): g = (x_i − ρ)·n_e with n_e the outward normal of
 /// the master's (counter-clockwise) owner element, so **g < 0 ⇔ the node penetrates the owner**
 /// and g ≥ 0 means separated. The penetration stored by the contact state is p = −g.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -61,7 +61,7 @@ pub(crate) struct Projection {
     pub frame: SegmentFrame,
 }
 
-/// Projects `x_i` onto the segment (`x_j1`, `x_j2`), fem-method §5.1 step 2; `None` for a
+/// Projects `x_i` onto the segment (`x_j1`, `x_j2`), docs/fem-model.md §5.1 step 2; `None` for a
 /// degenerate segment. (The search calls [`project_on_frame`] with frames computed once per step.)
 #[cfg(test)]
 pub(crate) fn project(x_i: Vector2<f64>, x_j1: Vector2<f64>, x_j2: Vector2<f64>) -> Option<Projection> {

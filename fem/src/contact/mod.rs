@@ -19,10 +19,10 @@ use forces::{ContactResponse, SlaveHistory, node_geometry, respond, scatter};
 use geometry::{Projection, SegmentFrame};
 use search::{BucketGrid, Limits, Slave, closest_master};
 
-/// Parameters of the contact pass (fem-method §5).
+/// Parameters of the contact pass (docs/fem-model.md §5).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct ContactParams {
-    /// Normal penalty ε_n [Pa/m] (traction per penetration; paper eq. 8; fem-method §5.2).
+    /// Normal penalty ε_n [Pa/m] (traction per penetration; paper eq. 8; docs/fem-model.md §5.2).
     pub eps_n: f64,
     /// Tangential penalty ε_t [Pa/m].
     pub eps_t: f64,
@@ -93,7 +93,7 @@ impl DetectionSurface {
 /// entries of nodes outside N_det stay zero/false).
 #[derive(Debug, Clone)]
 pub(crate) struct ContactState {
-    /// Slave had a contact element this step (used for damping, fem-method §6).
+    /// Slave had a contact element this step (used for damping, docs/fem-model.md §6).
     pub in_contact: Vec<bool>,
     /// Penetration p = −g ≥ 0 [m].
     pub penetration: Vec<f64>,
@@ -185,11 +185,11 @@ pub(crate) struct ContactSummary {
     pub max_penetration: f64,
 }
 
-/// One contact pass at the current positions (paper Algorithm 1, fem-method §5): bucket search,
+/// One contact pass at the current positions (paper Algorithm 1, docs/fem-model.md §5): bucket search,
 /// exclusion rules, smallest-|g| valid master, normal penalty, friction return map, averaged
 /// scatter with w = ½ (action = reaction).
 /// - `x`: current positions of all nodes [m].
-/// - `tied_twin[i]`: the node i is currently tied to (fem-method §3.1), or `u32::MAX`; tied
+/// - `tied_twin[i]`: the node i is currently tied to (docs/fem-model.md §3.1), or `u32::MAX`; tied
 ///   twins are never a contact pair.
 /// - adds the contact forces [N/m] into `f` (all nodes; the caller routes forces on prescribed
 ///   DOFs into reactions and sums tied twins).

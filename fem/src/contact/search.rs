@@ -1,6 +1,6 @@
-//! Contact search, fem-method §5.1: a uniform bucket grid of master segments rebuilt every step in
+//! Contact search, docs/fem-model.md §5.1: a uniform bucket grid of master segments rebuilt every step in
 //! O(|Γ_det|) into preallocated flat arrays (counting sort), and the narrow phase with the
-//! paper's exclusion rules and the smallest-|g| choice (fem-method §10.9).
+//! paper's exclusion rules and the smallest-|g| choice (docs/fem-model.md §10.8).
 
 use nalgebra::Vector2;
 
@@ -192,7 +192,7 @@ impl BucketGrid {
 pub(crate) struct Slave {
     /// Node id i.
     pub node: u32,
-    /// The node i is tied to (fem-method §3.1), or `u32::MAX`.
+    /// The node i is tied to (docs/fem-model.md §3.1), or `u32::MAX`.
     pub tied_twin: u32,
     /// Slave normal n_i (normalised sum of its segments' outward normals) [-].
     pub normal: Vector2<f64>,
@@ -207,10 +207,10 @@ pub(crate) struct Limits {
     pub projection_tolerance: f64,
 }
 
-/// Narrow phase for one slave, fem-method §5.1: among the grid candidates, drop segments attached
+/// Narrow phase for one slave, docs/fem-model.md §5.1: among the grid candidates, drop segments attached
 /// to the node or to its tied twin; project; keep penetrating (g < 0) pairs with |g| ≤ d_max,
 /// facing normals (n_i·n_e < 0) and ξ within tolerance; return the one with the smallest |g|
-/// (fem-method §10.9; on ties the lowest segment index, for reproducibility).
+/// (docs/fem-model.md §10.8; on ties the lowest segment index, for reproducibility).
 ///
 /// `frames[e]` is segment e's frame at the current positions (`None`: degenerate, never a master).
 pub(crate) fn closest_master(

@@ -6,7 +6,7 @@ use super::search::{BucketGrid, Limits, Slave, closest_master};
 use super::*;
 
 pub(super) const H: f64 = 1e-3; // m, segment length
-pub(super) const EPS: f64 = 2.1e10; // Pa/m, ε_n = ε_t = 300 E per metre (cases.md)
+pub(super) const EPS: f64 = 2.1e10; // Pa/m, ε_n = ε_t = 300 E per metre (docs/cases.md)
 pub(super) const NO_TWIN: u32 = u32::MAX;
 
 pub(super) fn params(friction_coeff: f64) -> ContactParams {

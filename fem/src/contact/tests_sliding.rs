@@ -179,7 +179,7 @@ fn faces_sliding_over_20_segments_get_exact_nodal_forces_at_every_step() {
         run(&mut c, &mut pass, &p, &[]);
         if step >= 2 {
             // Nodes at least 1.5 h inside the overlap: near the upper face's ends lower nodes enter
-            // contact, and a node's first contact step has no friction yet (fem-method §5.3).
+            // contact, and a node's first contact step has no friction yet (docs/fem-model.md §5.3).
             let x_lo = c.x[c.upper[0] as usize].x + 1.5 * H;
             let x_hi = c.x[c.upper[40] as usize].x - 1.5 * H;
             let lower = c

@@ -1,4 +1,4 @@
-//! Energy record and balance residual (fem-method §8):
+//! Energy record and balance residual (docs/fem-model.md §8.3):
 //! W_ext + W_con = E_kin + E_strain + E_coh,tot + E_damp up to O(Δt²).
 
 use crate::model::cohesive::reversible_energy;

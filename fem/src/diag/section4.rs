@@ -156,8 +156,9 @@ fn element_stresses(model: &Model, state: &State, e: usize, grads: &bulk::GaussG
 }
 
 /// Residual stress of eq. (17) [Pa]: ∫ (σ n)·e_x dA over the + facets with midpoint in [x₀, x₁],
-/// divided by the x extent those facets cover (x₁ − x₀ up to half an element at each end); σ from the + element extrapolated to the facet Gauss points (fem-method
-/// §8), n the reference facet normal (− → +), so that a flat face gives the mean σ_xy.
+/// divided by the x extent those facets cover (x₁ − x₀ up to half an element at each end); σ from
+/// the + element extrapolated to the facet Gauss points (docs/fem-model.md §1, §8.4), n the
+/// reference facet normal (− → +), so that a flat face gives the mean σ_xy.
 pub(crate) fn residual_stress(model: &Model, state: &State, [x0, x1]: [f64; 2]) -> f64 {
     let Some(row) = &model.iface else { return 0.0 };
     let (mut integral, mut extent) = (0.0, 0.0);

@@ -1,4 +1,4 @@
-//! Crack-tip and cohesive-zone-tip tracking along the interface row (fem-method §8,
+//! Crack-tip and cohesive-zone-tip tracking along the interface row (docs/fem-model.md §8.1,
 //! docs/solver-api.md), damage records, and arrival times per Gauss point.
 
 use crate::mesh::interfaces::FacetKind;

@@ -1,4 +1,4 @@
-//! Contact fields on the upper face Γ1 ∪ Γ⁺coh (fem-method §8): per-node records and the
+//! Contact fields on the upper face Γ1 ∪ Γ⁺coh (docs/fem-model.md §8.2): per-node records and the
 //! area-weighted means T̄ⁿ = Σ A p_N / Σ A, T̄ᵗ = Σ A |T| / Σ A over contacting nodes.
 
 use crate::mesh::interfaces::FacetKind;

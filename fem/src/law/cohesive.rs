@@ -1,5 +1,5 @@
 //! Linear coupled traction–separation law, paper eqs. (2)–(3) (hybrid model) and eq. (4)
-//! (standard model: compression penalty inside the law), fem-method §3.3–3.4. Pure.
+//! (standard model: compression penalty inside the law), docs/fem-model.md §3.3–3.4. Pure.
 //!
 //! Sign convention: the opening Δ = u⁺ − u⁻ [m]; n points from the − side into the + side;
 //! δ_n = Δ·n > 0 is opening. The traction T [Pa] is what acts on the + face with a minus sign:
@@ -46,12 +46,13 @@ pub struct CohesiveState {
     pub delta_max: f64,
     /// Damage d = min(δ_max/δ_c,eff, 1) [-].
     pub damage: f64,
-    /// Traction transmitted by the bulk at insertion T_ins [Pa] (fem-method §4).
+    /// Traction transmitted by the bulk at insertion T_ins [Pa] (docs/fem-model.md §4).
     pub t_ins: Vector2<f64>,
 }
 
 impl CohesiveState {
-    /// State at insertion with effective stress σ_eff [Pa] and bulk traction t_ins [Pa], fem-method §4:
+    /// State at insertion with effective stress σ_eff [Pa] and bulk traction t_ins [Pa]
+    /// (docs/fem-model.md §4):
     /// σ_c,eff = σ_eff, δ_c,eff = δ_c σ_c/σ_eff (guard σ_eff < 1e-6 σ_c → σ_c, δ_c).
     pub fn inserted(p: &LinearCohesive, sigma_eff: f64, t_ins: Vector2<f64>) -> Self {
         let (sigma_c_eff, delta_c_eff) = if sigma_eff < 1e-6 * p.sigma_c {
@@ -131,7 +132,7 @@ mod tests {
         beta: 1.0,
         kappa: 1.0,
     };
-    const TOL: f64 = 1e-10; // issue 3 claim 4: law matches eqs. (2)-(3) to 1e-10 relative
+    const TOL: f64 = 1e-10; // the law matches paper eqs. (2)-(3) to 1e-10 relative
 
     fn fresh() -> CohesiveState {
         CohesiveState::inserted(&P, P.sigma_c, Vector2::new(0.0, P.sigma_c))

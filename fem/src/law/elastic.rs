@@ -1,4 +1,5 @@
-//! Plane-strain isotropic elasticity: Lamé constants, wave speeds, stable time step (fem-method §1–2). Pure.
+//! Plane-strain isotropic elasticity: Lamé constants, wave speeds, stable time step
+//! (docs/fem-model.md §1–2). Pure.
 
 /// Plane-strain elastic constants derived from (E, ν, ρ).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -39,7 +40,7 @@ impl PlaneStrain {
         }
     }
 
-    /// Voigt matrix D = [[λ+2G, λ, 0], [λ, λ+2G, 0], [0, 0, G]] [Pa], fem-method §1.
+    /// Voigt matrix D = [[λ+2G, λ, 0], [λ, λ+2G, 0], [0, 0, G]] [Pa], docs/fem-model.md §1.
     pub fn d_matrix(&self) -> [[f64; 3]; 3] {
         let (l, g) = (self.lambda, self.shear_modulus);
         [[l + 2.0 * g, l, 0.0], [l, l + 2.0 * g, 0.0], [0.0, 0.0, g]]
@@ -78,7 +79,7 @@ pub fn penalty_factor(beta_p: f64) -> f64 {
     (2.0 / (1.0 + beta_p + (1.0 + beta_p * beta_p).sqrt())).sqrt()
 }
 
-/// Stable step Δt = α h_min/c_d · f(β_p) [s], fem-method §2, with β_p = ε h_min/E (ε [Pa/m]).
+/// Stable step Δt = α h_min/c_d · f(β_p) [s], docs/fem-model.md §2, with β_p = ε h_min/E (ε [Pa/m]).
 pub fn stable_time_step(alpha: f64, h_min: f64, cd: f64, beta_p: f64) -> f64 {
     alpha * h_min / cd * penalty_factor(beta_p)
 }

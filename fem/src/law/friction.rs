@@ -1,6 +1,6 @@
 //! Regularised Coulomb friction, paper eq. (8): explicit return map (stick/slip); pure.
 //!
-//! fem-method §5.3: backward Euler on the elastic slip of eq. (8), Akantu's scheme in 2D with
+//! docs/fem-model.md §5.3: backward Euler on the elastic slip of eq. (8), Akantu's scheme in 2D with
 //! unit tangents. The tangential traction is a signed scalar T [Pa] along the master tangent t_e.
 
 /// Parameters of the regularised Coulomb law.
@@ -39,7 +39,7 @@ pub(crate) struct FrictionStep {
     pub plastic_slip: f64,
 }
 
-/// Explicit return map, fem-method §5.3:
+/// Explicit return map, docs/fem-model.md §5.3:
 ///
 /// ```text
 /// T_tr = T_prev (t_prev·t_e) − ε_t Δs

@@ -1,5 +1,5 @@
 //! Facets of the twinned interface row: pre-crack facets (free faces from the start), cohesive
-//! facets (tied until inserted) and plain facets (never open), fem-method §3.1.
+//! facets (tied until inserted) and plain facets (never open), docs/fem-model.md §3.1.
 
 use super::structured::Grid;
 use nalgebra::Vector2;

@@ -1,5 +1,5 @@
 //! Structured Q4 grid of a rectangle, stored layer by layer, with an optional twinned node row
-//! (Option B of fem-method §3.1) and an optional mapping of that row onto y = f(x).
+//! (docs/fem-model.md §3.1) and an optional mapping of that row onto y = f(x).
 //!
 //! Node id = layer · (nx + 1) + column. A twinned row j_c has two layers, − (used by the elements
 //! below) then + (used by the elements above); every other row has one layer. Element row r

@@ -1,4 +1,4 @@
-//! Q4 plane-strain element, 2×2 Gauss (fem-method §1): pure kernels, and the race-free rayon
+//! Q4 plane-strain element, 2×2 Gauss (docs/fem-model.md §1): pure kernels, and the race-free rayon
 //! driver of the internal forces (each node gathers from its ≤ 4 elements; no shared writes).
 
 use crate::mesh::structured::Grid;
@@ -138,7 +138,7 @@ pub(crate) fn gauss_stresses(
     })
 }
 
-/// Bilinear extrapolation of Gauss values to natural point (ξ, η), fem-method §1:
+/// Bilinear extrapolation of Gauss values to natural point (ξ, η), docs/fem-model.md §1:
 /// value = Σ_k σ_k ¼(1 + √3 s_k ξ)(1 + √3 t_k η).
 pub(crate) fn extrapolate(sig: &[[f64; 3]; 4], xi: f64, eta: f64) -> [f64; 3] {
     let r3 = 3f64.sqrt();

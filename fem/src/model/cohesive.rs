@@ -1,4 +1,4 @@
-//! Cohesive element forces (fem-method §3.2): 2 + 2 nodes, 2-point Gauss, normal from the
+//! Cohesive element forces (docs/fem-model.md §3.2): 2 + 2 nodes, 2-point Gauss, normal from the
 //! current mid-line, traction from the pure law, scatter f⁺ −= (L₀/2) N T, f⁻ += (L₀/2) N T.
 
 use crate::law::cohesive::{self, ClosingTreatment, CohesiveState, LinearCohesive};
@@ -112,7 +112,7 @@ pub struct CohesiveForces {
     pub opening: [Vector2<f64>; 2],
 }
 
-/// One cohesive element (fem-method §3.2), pure: nodes [a⁺, b⁺, a⁻, b⁻] with current positions
+/// One cohesive element (docs/fem-model.md §3.2), pure: nodes [a⁺, b⁺, a⁻, b⁻] with current positions
 /// `x` [m] and displacements `u` [m]; normal from the current mid-line; Gauss states updated in place;
 /// f⁺_k = −Σ_q (L₀/2) N_k T_q, f⁻_k = +Σ_q (L₀/2) N_k T_q.
 pub fn element_forces(

@@ -1,4 +1,4 @@
-//! Extrinsic insertion on declared cohesive facets (fem-method §4, paper App. A): average of the
+//! Extrinsic insertion on declared cohesive facets (docs/fem-model.md §4, paper App. A): average of the
 //! two neighbours' Gauss stresses extrapolated to each facet Gauss point; σ_eff = √(⟨σ_nn⟩₊² + τ²/β²);
 //! insert when max_q σ_eff ≥ σ_c (or mean > σ_c); σ_c,eff = σ_eff, δ_c,eff = δ_c σ_c/σ_eff, T_ins = σ n.
 

@@ -1,5 +1,5 @@
 //! Boundary loading: the Westergaard displacement field of paper App. C (eqs. C.8–C.9, with the
-//! lateral-contraction term of cases.md) on the whole outer boundary, or side-wise uniform
+//! lateral-contraction term of docs/cases.md) on the whole outer boundary, or side-wise uniform
 //! displacements/tractions (`[fem.boundary]`), all through the ramp of eq. (B.1).
 
 use crate::mesh::structured::{Grid, LayerSide};
@@ -18,14 +18,14 @@ pub(crate) struct BoundaryData {
 /// Optional terms of the Westergaard boundary field.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct FieldTerms {
-    /// u_x −= ν x σ_yy/(2G): the normal load becomes uniaxial stress (cases.md, default on).
+    /// u_x −= ν x σ_yy/(2G): the normal load becomes uniaxial stress (docs/cases.md, default on).
     pub lateral: bool,
     /// u_y += [(1 − 2ν) Im ψ − y Re ψ']/(2G): the mode-II part of u_y that (C.9) drops; with it
-    /// the shear part is an exact elastic field (fem-method §7; default off, as cases.md).
+    /// the shear part is an exact elastic field (docs/fem-model.md §7; default off, as docs/cases.md).
     pub mode_ii_uy: bool,
 }
 
-/// Westergaard field per unit load, fem-method §7: returns (u for σ_xy^∞ = 1, u for σ_yy^∞ = 1) [m/Pa]
+/// Westergaard field per unit load, docs/fem-model.md §7: returns (u for σ_xy^∞ = 1, u for σ_yy^∞ = 1) [m/Pa]
 /// at (x, y) relative to the crack centre, with r(z) = √(z − a)·√(z + a) (principal roots),
 /// ψ = i σ_xy (z − r), ψ' = i σ_xy (1 − z/r),
 /// 2G u_x = 2(1−ν) Re ψ − y Im ψ' + 2 y σ_xy − ν x σ_yy (last term if `lateral`),

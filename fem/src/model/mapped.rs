@@ -2,7 +2,7 @@
 //! and the same width h, only the y coordinates of its corners differ. Then x = x_a + (h/2)(1 + ξ),
 //! the Jacobian is lower-triangular and B follows from four numbers per element, so f_int is
 //! computed on the fly (about 200 flops per element) instead of streaming a 512-byte K_e per
-//! element per step, which made the per-element path memory-bound (fem-method §1, same 2×2 Gauss
+//! element per step, which made the per-element path memory-bound (docs/fem-model.md §1, same 2×2 Gauss
 //! rule and the same discrete operator as K_e u_e, checked to round-off by a test).
 
 use crate::mesh::structured::Grid;

@@ -122,7 +122,7 @@ pub struct State {
     pub(crate) u: Vec<Vector2<f64>>,
     pub(crate) v: Vec<Vector2<f64>>,
     pub(crate) a: Vec<Vector2<f64>>,
-    /// Tied twin of each node or u32::MAX (fem-method §3.1).
+    /// Tied twin of each node or u32::MAX (docs/fem-model.md §3.1).
     pub(crate) tied_twin: Vec<u32>,
     pub(crate) facets: Facets,
     pub(crate) contact: Option<ContactPart>,

@@ -8,13 +8,13 @@ use super::problem::Crack;
 use super::raw::RawFem;
 use crate::error::SceneError;
 
-/// Largest allowed safety factor α of the stable step (fem-method §2, §10.11).
+/// Largest allowed safety factor α of the stable step (docs/fem-model.md §2, §10.10).
 ///
 /// # Deviation
-/// fem-method §2 recommends α ≤ 0.9. The measured limit of the structured Q4 lumped-mass grid is
-/// 0.98 h/c_d and the penalty factor f(β_p) of eq. (12) is conservative, so α = 0.95 is still
-/// stable; it is allowed because users test the model near its stability limit (the extremes
-/// test of the compare issue runs at 0.95). Above 0.95 a step is refused.
+/// The paper gives no α, and a margin of α ≤ 0.9 is the usual choice. The measured limit of the
+/// structured Q4 lumped-mass grid is 0.98 h/c_d and the penalty factor f(β_p) of eq. (12) is
+/// conservative, so α = 0.95 is still stable; it is allowed because users test the model near its
+/// stability limit (`fem_extremes` runs at 0.95). Above 0.95 a step is refused.
 pub(crate) const MAX_SAFETY: f64 = 0.95;
 
 /// Which cohesive-contact model runs (paper Section 4).
@@ -26,7 +26,7 @@ pub enum ModelKind {
     Standard,
 }
 
-/// Insertion criterion over the two facet Gauss points (fem-method §4).
+/// Insertion criterion over the two facet Gauss points (docs/fem-model.md §4).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum InsertionRule {
     /// Insert when max_q σ_eff,q ≥ σ_c (paper App. A; default).
@@ -35,7 +35,7 @@ pub enum InsertionRule {
     Mean,
 }
 
-/// Nodes whose velocity is scaled each step (fem-method §6).
+/// Nodes whose velocity is scaled each step (docs/fem-model.md §6).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum DampingSet {
     /// Only slave nodes in contact.
@@ -65,10 +65,10 @@ pub struct FemSpec {
     pub eps_n: f64,
     /// Tangential penalty ε_t [Pa/m].
     pub eps_t: f64,
-    /// Add u_x += −ν (x − x_c) σ_yy/(2G) to the Westergaard field (cases.md).
+    /// Add u_x += −ν (x − x_c) σ_yy/(2G) to the Westergaard field (docs/cases.md).
     pub lateral_contraction: bool,
     /// Add the mode-II part of u_y, [(1 − 2ν) Im ψ − y Re ψ']/(2G), that (C.9) drops (default
-    /// false, as cases.md): the shear part of the boundary field is then an exact elastic field.
+    /// false, as docs/cases.md): the shear part of the boundary field is then an exact elastic field.
     pub mode_ii_uy: bool,
     /// Sampling interval of the records [s].
     pub output_interval: f64,

@@ -81,7 +81,7 @@ pub struct Crack {
     pub center_x: f64,
 }
 
-/// Far-field loading: duration and the two stress histories (paper Section 3, cases.md).
+/// Far-field loading: duration and the two stress histories (paper Section 3, docs/cases.md).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Loading {
     /// Run duration T [s].

@@ -1,4 +1,4 @@
-//! One explicit central-difference step in the order of fem-method §9: predictor, prescribed
+//! One explicit central-difference step in the order of docs/fem-model.md §9: predictor, prescribed
 //! values, bulk + cohesive + contact + external forces, tied-pair accelerations, corrector,
 //! insertion, 0.99 velocity scaling, energy bookkeeping. No I/O, no allocation.
 
@@ -89,7 +89,7 @@ fn predictor(state: &mut State, dt: f64) {
         });
 }
 
-/// u = ū(t_{n+1}) and v = (ū(t_{n+1}) − ū(t_n))/Δt on prescribed DOFs (fem-method §2, §9 step 2).
+/// u = ū(t_{n+1}) and v = (ū(t_{n+1}) − ū(t_n))/Δt on prescribed DOFs (docs/fem-model.md §2, §9 step 3).
 fn prescribe(model: &Model, state: &mut State, ws: &Workspace, dt: f64) {
     for (k, p) in model.prescribed.iter().enumerate() {
         let ubar = p.value(&ws.ramp_values);
@@ -118,12 +118,13 @@ fn external_forces(model: &Model, state: &mut State, ws: &mut Workspace) {
 /// cohesive forces) and v̄ = (ū_{n+1} − ū_n)/Δt.
 ///
 /// # Deviation
-/// fem-method §8 integrates the whole reaction R = m ā − f by the trapezoidal rule. Its inertial
-/// part m ā, with the backward-difference acceleration ā = (v̄_{n+1} − v̄_n)/Δt, then differs from
-/// the kinetic-energy change of the node by ½ m (ā² − v̄ j̄) Δt² per step, which sums to an O(Δt)
-/// error (first order, measured: 1.8e-4 J/m at the end of the small scene's 0.1 ms normal ramp at
-/// α = 0.95, halving with α). The work of m ā on a node whose motion is imposed is exactly the
-/// change of its kinetic energy, so that part is booked exactly; the residual is then O(Δt²).
+/// Integrating the whole reaction R = m ā − f by the trapezoidal rule (docs/fem-model.md §8.3) is
+/// the plain choice. Its inertial part m ā, with the backward-difference acceleration
+/// ā = (v̄_{n+1} − v̄_n)/Δt, then differs from the kinetic-energy change of the node by
+/// ½ m (ā² − v̄ j̄) Δt² per step, which sums to an O(Δt) error (first order, measured: 1.8e-4 J/m at
+/// the end of the small scene's 0.1 ms normal ramp at α = 0.95, halving with α). The work of m ā on
+/// a node whose motion is imposed is exactly the change of its kinetic energy, so that part is
+/// booked exactly; the residual is then O(Δt²).
 fn reactions(model: &Model, state: &mut State, ws: &Workspace) {
     for (k, p) in model.prescribed.iter().enumerate() {
         let n = p.node as usize;
@@ -179,7 +180,7 @@ fn restore_prescribed(model: &Model, state: &mut State) {
     }
 }
 
-/// Velocity scaling v ← c v on the damped set (fem-method §6): contact slaves and cohesive nodes,
+/// Velocity scaling v ← c v on the damped set (docs/fem-model.md §6): contact slaves and cohesive nodes,
 /// both twins of a tied pair, never prescribed DOFs; the removed energy goes to E_damp.
 fn damping(model: &Model, state: &mut State) {
     let Some(row) = &model.iface else { return };

@@ -1,4 +1,4 @@
-//! Step 7 of fem-method §9: node-to-segment contact (hybrid model only), with the contact work
+//! Step 6 of docs/fem-model.md §9: node-to-segment contact (hybrid model only), with the contact work
 //! W_con += Σ ⟨f_con⟩·(u_{n+1} − u_n) and the friction dissipation.
 
 use crate::contact;

@@ -1,4 +1,4 @@
-//! Strength update of the linear coupled cohesive law, irreversible (spectral-method.md §5.1;
+//! Strength update of the linear coupled cohesive law, irreversible (docs/spectral-model.md §5.1;
 //! cRacklet `CohesiveLaw::updateCohesiveLaw`).
 //!
 //! a = sqrt((δ_n/δ_cn)² + (δ_t/δ_ct)²); σ_s = σ_max − (σ_max − σ_res) a, τ_s = τ_max − (τ_max − τ_res) a.

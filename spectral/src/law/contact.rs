@@ -1,4 +1,4 @@
-//! Normal direction of the per-point velocity solve (spectral-method.md §5.2 a–c): stick trial,
+//! Normal direction of the per-point velocity solve (docs/spectral-model.md §5.2 a–c): stick trial,
 //! open trial with traction = strength, contact by matching normal displacements (gap closed
 //! exactly at the end of the step, paper §3.2 "g = 0").
 

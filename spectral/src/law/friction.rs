@@ -1,4 +1,4 @@
-//! Shear direction of the per-point velocity solve (spectral-method.md §5.2 d) and the simplified
+//! Shear direction of the per-point velocity solve (docs/spectral-model.md §5.2 d) and the simplified
 //! Prakash regularisation of the friction normal stress (§5.3, paper eq. 14).
 //!
 //! # Deviation

@@ -1,4 +1,4 @@
-//! Per-point interface laws (spectral-method.md §5): pure functions of (params, inputs, old state).
+//! Per-point interface laws (docs/spectral-model.md §5): pure functions of (params, inputs, old state).
 //!
 //! Sign conventions (stated once, pinned by tests): opening δ_n = u^+_2 − u^-_2 (> 0 open, < 0
 //! interpenetration); slip δ_t = u^+_1 − u^-_1; traction T_i = σ_i2 on y = 0 (T_2 > 0 tension);

@@ -1,6 +1,7 @@
-//! Issue 3 claim 3: undamped elastic vibration conserves E_kin + E_strain within 0.1 % over
-//! 2,000 steps. The plate is set vibrating by a 200 µs displacement ramp on its left side, then
-//! every boundary value is held (no more external work) and it rings freely.
+//! Energy conservation of central differences (docs/fem-model.md §2): undamped elastic vibration
+//! conserves E_kin + E_strain within 0.1 % over 2,000 steps. The plate is set vibrating by a 200 µs
+//! displacement ramp on its left side, then every boundary value is held (no more external work)
+//! and it rings freely.
 //!
 //! The measured E = ½ vᵀMv + ½ uᵀKu of central differences oscillates around the exactly
 //! conserved discrete energy by about (ωΔt)²/4 of its kinetic part, so the excitation must be
@@ -9,7 +10,7 @@
 
 use validation::{scene_text, with_overrides};
 
-const TOL_ENERGY_REL: f64 = 1e-3; // issue 3 claim 3: total energy constant within 0.1 % over 2,000 steps; not tuned
+const TOL_ENERGY_REL: f64 = 1e-3; // undamped: total energy constant within 0.1 % over 2,000 steps; not tuned
 const STEPS: f64 = 2000.0;
 
 #[test]
@@ -50,7 +51,7 @@ fn free_vibration_conserves_energy() {
     assert!(spread <= TOL_ENERGY_REL);
 }
 
-/// fem-method §8: the energy-balance residual is O(Δt²). A fast displacement ramp on the plate's
+/// docs/fem-model.md §8.3: the energy-balance residual is O(Δt²). A fast displacement ramp on the plate's
 /// left side (20 µs, during which a P wave crosses 6 elements: a sharp impact) is where a
 /// first-order booking of the prescribed nodes' inertia shows. The residual at the end of the
 /// ramp must shrink by about 4 when Δt halves (second order), not by 2 (first order); the bound

@@ -1,4 +1,4 @@
-//! Compare issue, "stability at the extremes": the FE model on the small centre crack
+//! Stability at the extremes: the FE model on the small centre crack
 //! (scenes/tiny-fem-center-crack.toml: every feature of the paper's case — pre-crack contact
 //! with friction, cohesive insertion, Westergaard boundary field — on 40 × 20 elements) with
 //! penalties from 1 to 10,000 E per metre, elements smaller than δ_c, μ = 1 and a time step at
@@ -7,7 +7,7 @@
 
 use validation::{scene_text, with_overrides};
 
-const TOL_BALANCE_REL: f64 = 0.01; // issue 4: energy residual under 1 % of the boundary work; not tuned
+const TOL_BALANCE_REL: f64 = 0.01; // energy residual < 1 % of W_ext (docs/fem-model.md §8.3); not tuned
 const YOUNGS_MODULUS: f64 = 70e6; // Pa, the tiny scene's [material]
 
 fn float(v: f64) -> Option<toml::Value> {

@@ -1,9 +1,10 @@
-//! Issue 3 claim 1: a linear displacement field gives zero internal force at interior nodes,
-//! on a rectangular grid (shared K_e) and on a mapped (distorted) grid (one K_e per element).
+//! Patch test of the Q4 bulk (docs/fem-model.md §1): a linear displacement field gives zero internal
+//! force at interior nodes, on a rectangular grid (shared K_e) and on a mapped (distorted) grid (one
+//! K_e per element).
 
 use validation::{scene_text, with_overrides};
 
-const TOL_PATCH_REL: f64 = 1e-10; // issue 3 claim 1: interior force / boundary force <= 1e-10; not tuned
+const TOL_PATCH_REL: f64 = 1e-10; // patch test: interior force / boundary force <= 1e-10; not tuned
 
 fn plate() -> fem::Scene {
     let text = with_overrides(

@@ -1,5 +1,6 @@
-//! Issue 6 accuracy targets of the fast (sum-of-exponentials, recursive) convolution path:
-//! (a) on the single-mode responses of spectral-method.md §7.4–7.5 its max error against the exact
+//! Accuracy targets of the fast (sum-of-exponentials, recursive) convolution path
+//! (docs/spectral-model.md §4.3, §7.10):
+//! (a) on the single-mode responses of docs/spectral-model.md §7.4–7.5 its max error against the exact
 //! values is at most 1.1 × the direct path's at the same N and β;
 //! (b) on the centre-crack case (μ = 0) the crack-tip curves of the two paths agree within one grid
 //! spacing at every output time, and onset time and mean tip speed within 0.2 %.
@@ -9,9 +10,9 @@ use spectral::Convolution;
 use crate::spectral_common::{center_crack_a, center_crack_with, f, mean_tip_speed, onset_time, scene};
 use crate::spectral_single_mode::errors;
 
-const RATIO_FAST: f64 = 1.1; // issue 6: fast error ≤ 1.1 × direct error (single mode); not tuned
-const TOL_TIP_DX: f64 = 1.0; // issue 6: tip curves within one grid spacing at every output time; not tuned
-const TOL_REL: f64 = 0.002; // issue 6: onset time and mean tip speed within 0.2 %; not tuned
+const RATIO_FAST: f64 = 1.1; // fast path's target: fast error ≤ 1.1 × direct error (single mode); not tuned
+const TOL_TIP_DX: f64 = 1.0; // fast path: tip curves within one grid spacing at every output time; not tuned
+const TOL_REL: f64 = 0.002; // fast path: onset time and mean tip speed within 0.2 %; not tuned
 
 #[test]
 fn fast_path_single_mode_error_within_1_1_of_direct() {

@@ -1,11 +1,12 @@
-//! Issue 2 claim 6: in the centre-crack case with μ = 0.3 (cases.md), while the pre-crack slips the
-//! mean shear traction on it equals μ|s_yy| within 1 %; the normal traction is never tensile on
-//! contacting points; no interpenetration remains after a step.
+//! Friction on the slipping pre-crack (paper §3.2, eqs. 14–15): in the centre-crack case with
+//! μ = 0.3 (docs/cases.md), while the pre-crack slips the mean shear traction on it equals μ|s_yy|
+//! within 1 %; the normal traction is never tensile on contacting points; no interpenetration
+//! remains after a step.
 
 use crate::spectral_common::center_crack;
 
-const TOL_FRICTION_REL: f64 = 0.01; // issue 2 claim 6: mean shear traction = μ|s_yy| within 1 %; not tuned
-// Contact closes the gap exactly (δ_n + Δt(v⁺ − v⁻) = 0, spectral-method.md §5.2 c); what remains is
+const TOL_FRICTION_REL: f64 = 0.01; // eq. (15), slipping: mean shear traction = μ|s_yy| within 1 %; not tuned
+// Contact closes the gap exactly (δ_n + Δt(v⁺ − v⁻) = 0, docs/spectral-model.md §5.2 c); what remains is
 // round-off on u ~ 1e-4 m, i.e. ~1e-20 m. 1e-12 m (1e-8 δ_c) is far above round-off and far below the
 // paper's FE criterion 0.004 % of 2a = 1e-5 m.
 const TOL_PENETRATION: f64 = 1e-12;

@@ -1,11 +1,11 @@
-//! Issue 2 claim 1: the kernels H11, H22, K12 computed from their branch-cut integrals match the
-//! exact reference values of spectral-method.md §3.2 (ν = 0.35) at every tabulated T.
+//! Kernels (docs/spectral-model.md §7.1): H11, H22, K12 computed from their branch-cut integrals
+//! (§3.2) match the exact reference values (ν = 0.35) at every tabulated T.
 
 use spectral::kernels::Kernels;
 
 use crate::spectral_common::{eta_035, reference_rows};
 
-const TOL_KERNEL: f64 = 1e-6; // issue 2 claim 1: |error| ≤ 1e-6 at every T of the table; not tuned
+const TOL_KERNEL: f64 = 1e-6; // |error| ≤ 1e-6 at every T of the reference table; not tuned
 
 #[test]
 fn kernels_match_reference_table() {
@@ -29,7 +29,7 @@ fn kernels_match_reference_table() {
 
 #[test]
 fn kernel_integrals_match_static_limits() {
-    // §3.2: ∫_0^∞ H11 = ∫_0^∞ H22 = 2η²/(1+η²); ∫_0^∞ K12 = η − 2η²/(1+η²). Over [0, 400] with the
+    // §3.1: ∫_0^∞ H11 = ∫_0^∞ H22 = 2η²/(1+η²); ∫_0^∞ K12 = η − 2η²/(1+η²). Over [0, 400] with the
     // T^(-3/2) tails (|K| ≤ 9e-3 at T = 100) the truncated integrals agree to ~2e-3.
     const TOL_INTEGRAL: f64 = 3e-3; // tail beyond T = 400 bounded by 2·8.8·400^(-1/2)/… ≈ 1e-3; not tuned
     let eta = eta_035();

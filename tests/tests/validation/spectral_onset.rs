@@ -1,12 +1,12 @@
-//! Issue 2 claim 8: in the centre-crack case with μ = 0 the crack starts when the applied shear is
-//! within 10 % of the plane-strain LEFM value τ_c = sqrt(G_c E/(π a (1 − ν²))) = 63.7 kPa
-//! (cases.md); friction (μ = 0.3) delays the onset.
+//! Crack onset (paper §3, σ_crit; Fig. 7a for the delay by friction): in the centre-crack case
+//! with μ = 0 the crack starts when the applied shear is within 10 % of the plane-strain LEFM value
+//! τ_c = sqrt(G_c E/(π a (1 − ν²))) = 63.7 kPa (docs/cases.md); friction (μ = 0.3) delays the onset.
 
 use spectral::loading::ramp_value;
 
 use crate::spectral_common::{center_crack, center_crack_a, onset_time, scene};
 
-const TOL_ONSET_REL: f64 = 0.10; // issue 2 claim 8: onset shear within 10 % of τ_c; not tuned
+const TOL_ONSET_REL: f64 = 0.10; // onset shear within 10 % of the LEFM τ_c; not tuned
 
 #[test]
 fn onset_matches_lefm_and_friction_delays_it() {

@@ -1,11 +1,12 @@
-//! Issue 2 claim 2 (spectral-method.md §7.3): radiation damping is exact. (i) An intact interface
-//! under a uniform load stays exactly at rest; (ii) a zero-strength interface under a uniform shear
-//! step (normal closed by contact) gives face velocities ±τ_0 c_s/μ; (iii) the mode-I analogue
-//! gives ±σ_0 c_s/(ημ). Only k = 0 is excited, so f ≡ 0 and the values hold to round-off.
+//! Radiation damping (the impedance term of paper eq. 13) is exact (docs/spectral-model.md §7.3).
+//! (i) An intact interface under a uniform load stays exactly at rest; (ii) a zero-strength interface
+//! under a uniform shear step (normal closed by contact) gives face velocities ±τ_0 c_s/μ; (iii) the
+//! mode-I analogue gives ±σ_0 c_s/(ημ). Only k = 0 is excited, so f ≡ 0 and the values hold to
+//! round-off.
 
 use crate::spectral_common::{f, run, scene};
 
-const TOL_ROUNDOFF: f64 = 1e-12; // issue 2 claim 2: "to round-off" (relative to the exact velocity); not tuned
+const TOL_ROUNDOFF: f64 = 1e-12; // exact "to round-off" (relative to the exact velocity); not tuned
 
 fn max_rel_dev(out: &spectral::RunOutput, pick: impl Fn(&spectral::FieldRecord) -> f64, exact: f64) -> f64 {
     out.fields

@@ -1,10 +1,10 @@
-//! Issue 2 claim 7: onset time and mean tip speed of the centre-crack case (μ = 0) change by less
-//! than 1 % between Δx (N = 4096, paper resolution ≈ l_p/10) and Δx/2 (N = 8192), at the same
-//! c_s Δt/Δx.
+//! Grid convergence (docs/spectral-model.md §7.9): onset time and mean tip speed of the centre-crack
+//! case (μ = 0) change by less than 1 % between Δx (N = 4096, paper resolution ≈ l_p/10) and Δx/2
+//! (N = 8192), at the same c_s Δt/Δx.
 
 use crate::spectral_common::{center_crack, center_crack_a, f, mean_tip_speed, onset_time, run, scene};
 
-const TOL_RESOLUTION_REL: f64 = 0.01; // issue 2 claim 7: < 1 % change between Δx and Δx/2; not tuned
+const TOL_RESOLUTION_REL: f64 = 0.01; // < 1 % change between Δx and Δx/2; not tuned
 
 #[test]
 fn onset_and_speed_converged_in_grid_spacing() {

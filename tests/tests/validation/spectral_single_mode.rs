@@ -1,4 +1,4 @@
-//! Issue 2 claim 3 (spectral-method.md §7.4–7.5): single-mode dynamic responses. A step load
+//! Single-mode dynamic responses (docs/spectral-model.md §7.4–7.5). A step load
 //! τ_0 cos(kx) (mode II: shear strength 0, normal stuck) or σ_0 cos(kx) (mode I: normal strength 0,
 //! no contact, shear stuck) on the half-space operator; the slip/opening histories d_II(T), d_I(T)
 //! and the normal face displacement w(T) match the exact (Laplace-inverted) values, with max error
@@ -13,8 +13,8 @@ use spectral::{Convolution, FaceFields, HalfSpaceParams, HalfSpaces};
 
 use crate::spectral_common::{eta_035, reference_rows};
 
-const TOL_N64: f64 = 2e-3; // issue 2 claim 3: max error at N = 64; not tuned
-const RATIO_N128: f64 = 0.6; // issue 2 claim 3: error(N = 128) ≤ 0.6 error(N = 64) (first order); not tuned
+const TOL_N64: f64 = 2e-3; // single mode: max error at N = 64; not tuned
+const RATIO_N128: f64 = 0.6; // error(N = 128) ≤ 0.6 error(N = 64) (first order); not tuned
 
 /// Loading mode of the single-mode test.
 #[derive(Clone, Copy, PartialEq, Debug)]

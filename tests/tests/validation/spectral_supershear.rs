@@ -1,11 +1,11 @@
-//! Issue 2 claim 5 (Andrews 1976; Geubelle & Kubair 2001; spectral-method.md §7.7): with S = 1.0 the
-//! rupture becomes supershear (tip speed > c_s, settling between √2 c_s and c_d) at a crack
-//! half-length within a factor 2 of Andrews' transition length L = 9.8 (1.77 − S)^(−3) L_c,
+//! Supershear transition (Andrews 1976; Geubelle & Kubair 2001; docs/spectral-model.md §7.7): with
+//! S = 1.0 the rupture becomes supershear (tip speed > c_s, settling between √2 c_s and c_d) at a
+//! crack half-length within a factor 2 of Andrews' transition length L = 9.8 (1.77 − S)^(−3) L_c,
 //! L_c = μ(τ_p − τ_r)δ_c/(2π(1 − ν)(τ_0 − τ_r)²); with S = 2.5 it never does.
 
 use crate::spectral_common::{andrews_s10, andrews_s25, scene, speed_between, windowed_speeds};
 
-const FACTOR_ANDREWS: f64 = 2.0; // issue 2 claim 5: transition length within a factor 2 of Andrews; not tuned
+const FACTOR_ANDREWS: f64 = 2.0; // transition length within a factor 2 of Andrews; not tuned
 const WINDOW: f64 = 3.0; // §7.7: least squares over 3 time units
 
 #[test]
