@@ -10,6 +10,14 @@ use nalgebra::Vector2;
 /// Numerical tolerance on δ_n/δ_c,eff deciding that a facet is closing (Akantu `cohesive_linear`).
 const CLOSING_TOL: f64 = 1e-10;
 
+/// An effective opening below this fraction of δ_c,eff leaves a facet in its insertion state
+/// (d = 0, T = T_ins). Right after an insertion the two faces coincide and round-off leaves an
+/// opening of ~1e-20 m in an arbitrary direction; taken as an opening, it would set the traction's
+/// direction (a round-off closing normal turned T_ins = σ_c n into −σ_c n, tearing the facet
+/// open). Physical openings of interest are many orders above 1e-9 δ_c (Akantu treats damages
+/// below its float tolerance as zero for the same reason).
+const UNOPENED_TOL: f64 = 1e-9;
+
 /// Parameters of the linear coupled law (paper eq. 2, Table 1).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LinearCohesive {
@@ -72,7 +80,8 @@ impl CohesiveState {
 
 /// Traction of the linear coupled law, paper eqs. (2)–(3):
 /// δ² = (β²/κ²) δ_t² + δ_n² (δ_n dropped while closing), d = min(δ_max/δ_c,eff, 1),
-/// T = ((β²/κ) Δ_t + δ_n n) σ_c,eff (1 − d)/δ_max for 0 < d < 1, T_ins at d = 0, 0 at d = 1;
+/// T = ((β²/κ) Δ_t + δ_n n) σ_c,eff (1 − d)/δ_max for 0 < d < 1, T_ins at d = 0 (openings below
+/// 1e-9 δ_c,eff are round-off and leave d = 0), 0 at d = 1;
 /// the standard variant adds ε_n δ_n n while closing (eq. 4). Returns (T [Pa], new state).
 pub fn traction(
     p: &LinearCohesive,
@@ -83,7 +92,9 @@ pub fn traction(
 ) -> (Vector2<f64>, CohesiveState) {
     let (delta, closing, delta_n, dt_vec) = effective_opening(p, mode, n, opening, &s);
     let mut new = s;
-    new.delta_max = s.delta_max.max(delta);
+    if delta > UNOPENED_TOL * s.delta_c_eff {
+        new.delta_max = s.delta_max.max(delta);
+    }
     new.damage = (new.delta_max / s.delta_c_eff).min(1.0);
     let normal_part = if closing { Vector2::zeros() } else { delta_n * n };
     let mut t = if new.damage >= 1.0 {
@@ -255,5 +266,30 @@ mod tests {
         assert_eq!(s.damage, 1.0);
         let g_ii = p.kappa * 0.5 * p.sigma_c * p.delta_c;
         assert!((work - g_ii).abs() < 1e-3 * g_ii, "G_II {work} vs {g_ii}");
+    }
+
+    #[test]
+    fn a_round_off_opening_keeps_the_insertion_traction() {
+        // right after insertion the two faces coincide and round-off leaves openings of
+        // ~1e-20 m in any direction; they must not set the traction's direction (a closing
+        // normal round-off used to flip T_ins = σ_c n into −σ_c n, tearing the facet open)
+        for opening in [
+            Vector2::new(0.0, -2.4e-20),
+            Vector2::new(3e-21, 1e-22),
+            Vector2::new(-1e-19, -1e-19),
+        ] {
+            let (t, s) = traction(&P, ClosingTreatment::Hybrid, n(), opening, fresh());
+            assert_eq!(t, Vector2::new(0.0, P.sigma_c), "{opening:?}");
+            assert_eq!(s.damage, 0.0, "{opening:?}");
+        }
+        // a physical opening softens as eq. (2) says
+        let (t, _) = traction(
+            &P,
+            ClosingTreatment::Hybrid,
+            n(),
+            Vector2::new(0.0, 1e-2 * P.delta_c),
+            fresh(),
+        );
+        assert!((t.y - eq2(1e-2 * P.delta_c)).abs() < TOL * P.sigma_c);
     }
 }

@@ -41,9 +41,9 @@ pub fn build_with_row_map(
             })
             .collect()
     });
-    let mut fixed_node = vec![false; grid.num_nodes()];
+    let mut fixed_dof = vec![[false; 2]; grid.num_nodes()];
     for p in &bd.prescribed {
-        fixed_node[p.node as usize] = true;
+        fixed_dof[p.node as usize][p.dof as usize] = true;
     }
     let probes = f
         .probes
@@ -87,7 +87,7 @@ pub fn build_with_row_map(
         ramps: bd.ramps,
         prescribed: bd.prescribed,
         neumann: bd.neumann,
-        fixed_node,
+        fixed_dof,
         probes,
         crack,
         lateral_contraction: f.lateral_contraction,

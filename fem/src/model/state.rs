@@ -58,8 +58,8 @@ pub struct Model {
     pub(crate) ramps: Vec<Ramp>,
     pub(crate) prescribed: Vec<BoundaryDof>,
     pub(crate) neumann: Vec<BoundaryDof>,
-    /// Node has at least one prescribed DOF.
-    pub(crate) fixed_node: Vec<bool>,
+    /// Per node and component (x, y): the DOF is prescribed.
+    pub(crate) fixed_dof: Vec<[bool; 2]>,
     /// Probe node ids.
     pub(crate) probes: Vec<u32>,
     /// Pre-crack (x_c, a) [m].

@@ -4,7 +4,6 @@
 
 use crate::model::state::{Model, State, Workspace};
 use crate::model::{bulk, cohesive, insertion};
-use nalgebra::Vector2;
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -181,7 +180,8 @@ fn restore_prescribed(model: &Model, state: &mut State) {
 }
 
 /// Velocity scaling v ← c v on the damped set (docs/fem-model.md §6): contact slaves and cohesive nodes,
-/// both twins of a tied pair, never prescribed DOFs; the removed energy goes to E_damp.
+/// both twins of a tied pair, every free component (a prescribed component keeps its imposed
+/// velocity, the other is damped like its neighbours'); the removed energy goes to E_damp.
 fn damping(model: &Model, state: &mut State) {
     let Some(row) = &model.iface else { return };
     let c = model.damping_factor;
@@ -204,10 +204,15 @@ fn damping(model: &Model, state: &mut State) {
             dp = dm;
         }
         for (node, on) in [(m, dm), (p, dp)] {
-            if on && !model.fixed_node[node] {
-                let v: Vector2<f64> = state.v[node];
-                removed += 0.5 * model.mass[node] * (1.0 - c * c) * v.norm_squared();
-                state.v[node] *= c;
+            if !on {
+                continue;
+            }
+            for d in 0..2 {
+                if !model.fixed_dof[node][d] {
+                    let v = state.v[node][d];
+                    removed += 0.5 * model.mass[node] * (1.0 - c * c) * v * v;
+                    state.v[node][d] *= c;
+                }
             }
         }
     }

@@ -1,4 +1,4 @@
-//! One test binary, one module per physical claim (style.md). Each model's modules are
+//! One test binary, one module per physical claim. Each model's modules are
 //! behind that model's feature so one can be built while the other is being edited; the
 //! README's test command builds them all.
 
@@ -35,6 +35,8 @@ mod fem_contact_pressure;
 mod fem_energy_conservation;
 #[cfg(feature = "fem")]
 mod fem_friction_sliding;
+#[cfg(feature = "fem")]
+mod fem_insertion_oscillations;
 #[cfg(feature = "fem")]
 mod fem_patch_test;
 #[cfg(feature = "fem")]
