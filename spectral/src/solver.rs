@@ -126,10 +126,9 @@ pub(crate) fn build(scene: &Scene) -> Result<(Model, State, Workspace), BuildErr
                 scene.shear.r#final,
             ]
             .iter()
-            .fold(
-                scene.sigma_c.max(scene.beta * scene.sigma_c / scene.kappa),
-                |a, b| a.max(b.abs()),
-            );
+            .fold(scene.sigma_c.max(scene.beta * scene.sigma_c), |a, b| {
+                a.max(b.abs())
+            });
             1e3 * (peak + scene.nucleation.map_or(0.0, |n| n.shear.abs())) * w.cs / mu
         },
         friction_coeff: scene.friction_coeff,
@@ -197,10 +196,12 @@ fn solve_point(
         dt: model.dt,
         contact: model.contact,
     });
-    let tau = if normal.branch == NormalBranch::Contact {
+    let in_contact = normal.branch == NormalBranch::Contact;
+    // eq. (14) at every step: towards the compressive traction in contact, towards 0 apart
+    let sigma = if in_contact { normal.traction } else { 0.0 };
+    p.reg_normal = friction::regularized_normal(p.reg_normal, sigma, model.relax);
+    let tau = if in_contact {
         s.state = PointState::Contact;
-        let prev = p.in_contact.then_some(p.reg_normal);
-        p.reg_normal = friction::regularized_normal(prev, normal.traction, model.relax);
         model.friction_coeff * p.reg_normal.abs()
     } else {
         s.tau

@@ -2,9 +2,10 @@
 //! cRacklet `CohesiveLaw::updateCohesiveLaw`).
 //!
 //! a = sqrt((δ_n/δ_cn)² + (δ_t/δ_ct)²); σ_s = σ_max − (σ_max − σ_res) a, τ_s = τ_max − (τ_max − τ_res) a.
-//! Mapping from paper eq. (2)–(3): σ_max = σ_c, δ_cn = δ_c, τ_max = β σ_c/κ, δ_ct = δ_c/β, so that
-//! a = δ/δ_c with δ = sqrt(β² δ_t² + δ_n²) and, for δ_n = 0, |T_1| = (β/κ) σ_c (1 − β|δ_t|/δ_c) exactly
-//! as eq. (3).
+//! Mapping from paper eqs. (2)–(3), where δ = sqrt((β²/κ²) δ_t² + δ_n²): σ_max = σ_c, δ_cn = δ_c,
+//! τ_max = β σ_c, δ_ct = κ δ_c/β, so that a = δ/δ_c and, for δ_n = 0, |T_1| = β σ_c (1 − β|δ_t|/(κ δ_c))
+//! as eq. (2) gives: peak shear β σ_c and mode-II fracture energy G_II = ½ τ_max δ_ct = κ G_c (the
+//! paper's κ = G_II/G_I), the same convention as the FE law.
 //!
 //! # Deviation
 //! In mixed-mode opening the paper scales the two components by δ_n/δ and β δ_t/δ (circular
@@ -36,9 +37,9 @@ impl CohesiveParams {
     pub fn from_paper(sigma_c: f64, delta_c: f64, beta: f64, kappa: f64) -> CohesiveParams {
         CohesiveParams {
             sigma_max: sigma_c,
-            tau_max: beta * sigma_c / kappa,
+            tau_max: beta * sigma_c,
             delta_cn: delta_c,
-            delta_ct: delta_c / beta,
+            delta_ct: kappa * delta_c / beta,
             sigma_res: 0.0,
             tau_res: 0.0,
         }
@@ -141,9 +142,25 @@ mod tests {
         assert_eq!(s.state, PointState::Broken);
     }
 
+    /// Paper eq. (2) at β = 0.5, κ = 2 in pure shear: peak strength β σ_c and
+    /// G_II = ∫ τ dδ_t = κ G_c = κ σ_c δ_c/2, the analytic values (the FE law's test checks the
+    /// same numbers).
     #[test]
-    fn kappa_and_beta_scale_shear_as_eq3() {
-        let q = CohesiveParams::from_paper(1.0, 1.0, 2.0, 4.0);
-        assert_eq!((q.tau_max, q.delta_ct), (0.5, 0.5));
+    fn kappa_and_beta_give_peak_shear_beta_sigma_c_and_g_ii_kappa_g_c() {
+        let (sigma_c, delta_c, beta, kappa) = (0.4e6, 1e-4, 0.5, 2.0);
+        let q = CohesiveParams::from_paper(sigma_c, delta_c, beta, kappa);
+        let mut s = Strength::intact(&q);
+        assert!((s.tau - beta * sigma_c).abs() < 1e-9, "peak shear {}", s.tau);
+        // integrate the shear strength over a monotone slip ramp to failure (midpoint rule)
+        let (n, end) = (200_000, 1.2 * kappa * delta_c / beta);
+        let mut g = 0.0;
+        for k in 0..n {
+            let slip = (k as f64 + 0.5) * end / n as f64;
+            s = update(&q, 0.0, slip, s);
+            g += s.tau * end / n as f64;
+        }
+        assert_eq!(s.state, PointState::Broken);
+        let g_ii = kappa * 0.5 * sigma_c * delta_c;
+        assert!((g / g_ii - 1.0).abs() < 1e-4, "G_II {g} against κ G_c {g_ii}");
     }
 }

@@ -44,12 +44,15 @@ pub fn solve_shear(s_top: f64, s_bottom: f64, strength: f64, impedance: f64) -> 
     }
 }
 
-/// Backward-Euler step of dσ̃/dt = −(σ̃ − T_2)/t*: σ̃ ← (σ̃_prev + r T_2)/(1 + r), r = Δt/t*, with
-/// σ̃_prev = 0 on the first contact step (`prev = None`). `r = None` (t* = 0) gives plain Coulomb σ̃ = T_2.
-pub fn regularized_normal(prev: Option<f64>, normal_traction: f64, r: Option<f64>) -> f64 {
+/// Backward-Euler step of dσ̃/dt = −(σ̃ − σ)/t*: σ̃ ← (σ̃_prev + r σ)/(1 + r), r = Δt/t*, taken at
+/// every step of every point (paper eq. 14). σ is the interface's compressive normal traction T_2
+/// where the faces touch and 0 where they are apart, so out of contact σ̃ relaxes towards 0 over
+/// t* instead of vanishing at once, and a point touching again starts from what is left of it.
+/// `r = None` (t* = 0) gives plain Coulomb σ̃ = σ.
+pub fn regularized_normal(prev: f64, normal_stress: f64, r: Option<f64>) -> f64 {
     match r {
-        None => normal_traction,
-        Some(r) => (prev.unwrap_or(0.0) + r * normal_traction) / (1.0 + r),
+        None => normal_stress,
+        Some(r) => (prev + r * normal_stress) / (1.0 + r),
     }
 }
 
@@ -81,11 +84,27 @@ mod tests {
 
     #[test]
     fn regularised_stress_relaxes_to_normal_traction() {
-        let mut s = regularized_normal(None, -1.0, Some(0.1));
+        let mut s = regularized_normal(0.0, -1.0, Some(0.1));
         assert!((s + 0.1 / 1.1).abs() < 1e-15);
         for _ in 0..400 {
-            s = regularized_normal(Some(s), -1.0, Some(0.1));
+            s = regularized_normal(s, -1.0, Some(0.1));
         }
         assert!((s + 1.0).abs() < 1e-12);
+    }
+
+    /// Eq. (14) out of contact: σ = 0, so σ̃ decays by 1/(1 + r) per step (backward Euler), to
+    /// e^{-t/t*} as Δt → 0, instead of dropping to 0 at once; touching again continues from there.
+    #[test]
+    fn out_of_contact_the_regularised_stress_relaxes_instead_of_resetting() {
+        let r = 0.05;
+        let mut s = -1.0;
+        for _ in 0..20 {
+            s = regularized_normal(s, 0.0, Some(r));
+        }
+        let expected = -(1.0f64 + r).powi(-20);
+        assert!((s - expected).abs() < 1e-15, "{s} against {expected}");
+        assert!(s < -0.3, "after one t* a third of the stress is left, not 0");
+        let back = regularized_normal(s, -1.0, Some(r));
+        assert!((back - (s - r) / (1.0 + r)).abs() < 1e-15);
     }
 }
