@@ -126,6 +126,12 @@ fn print_table(verdicts: &[Verdict]) {
     }
 }
 
+fn print_warnings(warnings: &[String]) {
+    for w in warnings {
+        eprintln!("warning: {w}");
+    }
+}
+
 fn verdict_line(verdicts: &[Verdict]) -> bool {
     let failing = verdicts.iter().filter(|v| !v.pass).count();
     if failing == 0 {
@@ -167,6 +173,7 @@ fn real_main() -> Result<bool> {
             let dir = out("");
             let report = compare::gate::run_gate(&study, &PAPER_RESOLUTION, &dir, &bars)?;
             print_table(&report.verdicts);
+            print_warnings(&report.warnings);
             println!("\n{} files written to {}", report.files.len(), dir.display());
             Ok(verdict_line(&report.verdicts))
         }
@@ -174,6 +181,7 @@ fn real_main() -> Result<bool> {
             let dir = out("-converged");
             let report = compare::converged::run_converged(&study, &dir, &bars)?;
             print_table(&report.gate.verdicts);
+            print_warnings(&report.gate.warnings);
             println!("\n{} files written to {}", report.gate.files.len(), dir.display());
             Ok(verdict_line(&report.gate.verdicts))
         }
@@ -183,6 +191,7 @@ fn real_main() -> Result<bool> {
             let report = compare::penalty::run_study(&study, &factors, &dir, &bars)?;
             print!("{}", compare::penalty::table(&report.summary));
             print!("{}", compare::penalty::limit_lines(&report.limits));
+            print_warnings(&report.warnings);
             println!("\n{} files written to {}", report.files.len(), dir.display());
             Ok(true)
         }
@@ -191,6 +200,7 @@ fn real_main() -> Result<bool> {
             let report = compare::sinusoid::run_study(&study, &dir, &bars)?;
             print!("{}", compare::sinusoid::table(&report.rows, &report.setup));
             println!("\n{} files written to {}", report.files.len(), dir.display());
+            print_warnings(&report.warnings);
             for f in &report.failures {
                 println!("FAILED: {f}");
             }

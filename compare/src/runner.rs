@@ -32,6 +32,8 @@ pub struct Finished<O> {
     pub wall_s: f64,
     /// Why the run stopped before T, with when and where (`None`: it reached T).
     pub failure: Option<String>,
+    /// What the run did that its user should know (e.g. contacts lost to the detection distance).
+    pub warnings: Vec<String>,
 }
 
 impl<O> Finished<O> {
@@ -107,7 +109,21 @@ pub fn run_fem(job: Job<fem::Scene>, rep: &dyn Reporter) -> Result<Finished<fem:
     if keep.writes(failure.is_some()) {
         fem::write_csv(&out, dir).with_context(|| format!("{label}: writing {}", dir.display()))?;
     }
-    Ok(Finished { out, wall_s, failure })
+    let mut warnings = Vec::new();
+    let dropped = out.record().dropped_contacts;
+    if dropped > 0 {
+        warnings.push(format!(
+            "{label}: {dropped} contacts lost because a penetration exceeded the detection distance \
+             fem.max_gap = {} m; raise it or stiffen fem.eps_n",
+            scene.fem.max_gap
+        ));
+    }
+    Ok(Finished {
+        out,
+        wall_s,
+        failure,
+        warnings,
+    })
 }
 
 /// Runs a spectral job, as [`run_fem`].
@@ -135,7 +151,12 @@ pub fn run_spectral(job: Job<spectral::Scene>, rep: &dyn Reporter) -> Result<Fin
     if keep.writes(failure.is_some()) {
         spectral::write_csv(&out, dir).with_context(|| format!("{label}: writing {}", dir.display()))?;
     }
-    Ok(Finished { out, wall_s, failure })
+    Ok(Finished {
+        out,
+        wall_s,
+        failure,
+        warnings: Vec::new(),
+    })
 }
 
 /// A model's tip records as harness rows (both crates' `TipRecord`s have the same fields).

@@ -75,7 +75,16 @@ fn bench_resolve(c: &mut Criterion) {
             for p in &mut x[SEGMENTS + 1..] {
                 p.x += sign * 1e-6;
             }
-            let summary = resolve(&params, &mut surface, &x, &twins, &mut state, &mut ws, &mut f);
+            let summary = resolve(
+                &params,
+                &mut surface,
+                &x,
+                &twins,
+                &[],
+                &mut state,
+                &mut ws,
+                &mut f,
+            );
             black_box(summary.contacts)
         })
     });

@@ -27,7 +27,7 @@ pub use model::state::{Model, State, Workspace};
 pub use nalgebra;
 pub use output::{
     ArrivalRecord, ContactMeanRecord, EnergyRecord, FaceRecord, FieldRecord, InterfaceRecord, KktRecord,
-    ProbeRecord, ProfileRecord, ResidualStressRecord, RunOutput, TipRecord, write_csv,
+    ProbeRecord, ProfileRecord, ResidualStressRecord, RunOutput, RunRecord, TipRecord, write_csv,
 };
 pub use scene::Scene;
 pub use solver::central_difference::step;

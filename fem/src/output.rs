@@ -58,6 +58,11 @@ pub struct ContactMeanRecord {
     pub mean_tangential_traction: f64,
     /// Largest penetration on the face [m].
     pub max_penetration: f64,
+    /// Contacts lost in the sample's step because the penetration exceeded the detection
+    /// distance d_max (`fem.max_gap`), anywhere on Γ_det [-].
+    pub dropped_contacts_step: usize,
+    /// The same, summed over every step since t = 0 [-].
+    pub dropped_contacts_total: u64,
 }
 
 /// Energies [J/m] (docs/fem-model.md §8.3), measured from t = 0.
@@ -194,6 +199,32 @@ pub struct ProfileRecord {
     pub compressive_traction: f64,
 }
 
+/// What a run was: its step, its modelling choices and its energy bill (`run.csv`, one row).
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct RunRecord {
+    /// Time step [s].
+    pub time_step: f64,
+    /// Steps done [-].
+    pub steps: u64,
+    /// `hybrid` or `standard`.
+    pub model: String,
+    /// The Westergaard boundary field had the lateral-contraction term.
+    pub lateral_contraction: bool,
+    /// The boundary field had the mode-II part of u_y that paper eq. (C.9) drops.
+    pub mode_ii_uy: bool,
+    /// The damping choice, in words.
+    pub damping: String,
+    /// Fracture energy: the cohesive dissipation at the end of the run [J/m].
+    pub fracture_energy: f64,
+    /// Energy the damping removed [J/m].
+    pub damping_removed: f64,
+    /// damping_removed / fracture_energy [-] (NaN without fracture).
+    pub damping_share: f64,
+    /// Contacts lost over the run because a penetration exceeded the detection distance
+    /// (`fem.max_gap`) [-]; anything but 0 deserves a larger `max_gap` or a stiffer penalty.
+    pub dropped_contacts: u64,
+}
+
 /// Everything a run produces.
 #[derive(Debug, Clone, Default)]
 pub struct RunOutput {
@@ -201,8 +232,14 @@ pub struct RunOutput {
     pub time_step: f64,
     /// Steps done.
     pub steps: u64,
+    /// `hybrid` or `standard`.
+    pub model: String,
     /// Whether the Westergaard field had the lateral-contraction term.
     pub lateral_contraction: bool,
+    /// Whether the boundary field had the mode-II part of u_y.
+    pub mode_ii_uy: bool,
+    /// The damping choice, in words.
+    pub damping: String,
     /// Tip history.
     pub tips: Vec<TipRecord>,
     /// Damage per interface Gauss point per sample.
@@ -233,6 +270,30 @@ pub struct RunOutput {
     pub contact_seconds: f64,
 }
 
+impl RunOutput {
+    /// The run's record: its choices and, from the last energy sample, its damping bill.
+    pub fn record(&self) -> RunRecord {
+        let last = self.energy.last().copied().unwrap_or_default();
+        let fracture = last.cohesive_dissipated;
+        RunRecord {
+            time_step: self.time_step,
+            steps: self.steps,
+            model: self.model.clone(),
+            lateral_contraction: self.lateral_contraction,
+            mode_ii_uy: self.mode_ii_uy,
+            damping: self.damping.clone(),
+            fracture_energy: fracture,
+            damping_removed: last.damping_removed,
+            damping_share: if fracture > 0.0 {
+                last.damping_removed / fracture
+            } else {
+                f64::NAN
+            },
+            dropped_contacts: self.contact.last().map_or(0, |c| c.dropped_contacts_total),
+        }
+    }
+}
+
 fn write<T: Serialize>(dir: &Path, name: &str, rows: &[T], out: &mut Vec<PathBuf>) -> io::Result<()> {
     let path = dir.join(name);
     let mut w = csv::Writer::from_path(&path).map_err(io::Error::other)?;
@@ -244,11 +305,12 @@ fn write<T: Serialize>(dir: &Path, name: &str, rows: &[T], out: &mut Vec<PathBuf
     Ok(())
 }
 
-/// Writes tips.csv, interface.csv, faces.csv, contact.csv, energy.csv, arrivals.csv, probes.csv
-/// and, when declared, residual_stress.csv, kkt.csv, field.csv, profile.csv into `dir`.
+/// Writes run.csv, tips.csv, interface.csv, faces.csv, contact.csv, energy.csv, arrivals.csv,
+/// probes.csv and, when declared, residual_stress.csv, kkt.csv, field.csv, profile.csv into `dir`.
 pub fn write_csv(output: &RunOutput, dir: &Path) -> io::Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir)?;
     let mut out = Vec::new();
+    write(dir, "run.csv", &[output.record()], &mut out)?;
     write(dir, "tips.csv", &output.tips, &mut out)?;
     write(dir, "interface.csv", &output.interface, &mut out)?;
     write(dir, "faces.csv", &output.faces, &mut out)?;

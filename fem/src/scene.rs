@@ -3,6 +3,7 @@
 
 mod boundary;
 mod checks;
+mod damping;
 mod diagnostics;
 mod fem;
 mod interface_spec;
@@ -10,9 +11,10 @@ mod problem;
 mod raw;
 
 pub use boundary::{BoundaryComponent, BoundaryKind, BoundarySpec};
+pub use damping::{Damping, DampingRate, DampingSet};
 pub use diagnostics::Diagnostics;
-pub use fem::{DampingSet, FemSpec, InsertionRule, ModelKind};
-pub use interface_spec::{ContactSurface, InterfaceZone};
+pub use fem::{FemSpec, InsertionRule, ModelKind};
+pub use interface_spec::{ContactFriction, ContactSurface, InterfaceZone};
 pub(crate) use interface_spec::{in_range, zone_of};
 pub use problem::{Crack, Loading, Ramp};
 

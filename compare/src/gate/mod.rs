@@ -28,6 +28,8 @@ pub struct GateReport {
     pub case: Case,
     /// FE element size h [m] and spectral grid spacing Δx [m] of the runs.
     pub spacing: (f64, f64),
+    /// What the runs did that the user should know.
+    pub warnings: Vec<String>,
 }
 
 impl GateReport {
@@ -76,7 +78,7 @@ pub fn run_gate(study: &Study, tol: &Tolerances, dir: &Path, rep: &dyn Reporter)
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     let case = study.case();
     let mu_detail = plans.iter().map(|p| p.mu).fold(f64::MIN, f64::max);
-    let (mut runs, mut files, mut detail) = (Vec::new(), Vec::new(), None);
+    let (mut runs, mut files, mut detail, mut warnings) = (Vec::new(), Vec::new(), None, Vec::new());
     for p in &plans {
         let tag = mu_tag(p.mu);
         let fem_dir = dir.join(format!("fem_mu{tag}"));
@@ -86,7 +88,9 @@ pub fn run_gate(study: &Study, tol: &Tolerances, dir: &Path, rep: &dyn Reporter)
             dir: &fem_dir,
             keep: Keep::Everything,
         };
-        let fo = run_fem(fem_job, rep)?.completed()?;
+        let f = run_fem(fem_job, rep)?;
+        warnings.extend(f.warnings.iter().cloned());
+        let fo = f.completed()?;
         let spectral_dir = dir.join(format!("spectral_mu{tag}"));
         let spectral_job = Job {
             scene: &p.spectral,
@@ -122,5 +126,6 @@ pub fn run_gate(study: &Study, tol: &Tolerances, dir: &Path, rep: &dyn Reporter)
         runs,
         case,
         spacing,
+        warnings,
     })
 }

@@ -27,6 +27,8 @@ pub struct PenaltyReport {
     pub limits: Vec<Limit>,
     /// Every file written.
     pub files: Vec<PathBuf>,
+    /// What the runs did that the user should know.
+    pub warnings: Vec<String>,
 }
 
 /// The FE scene of every factor f of `factors`, ε_n = ε_t = f · E per metre, validated before
@@ -55,7 +57,8 @@ pub fn plan(study: &Study, factors: &[u32]) -> Result<Vec<(u32, fem::Scene)>> {
 pub fn run_study(study: &Study, factors: &[u32], dir: &Path, rep: &dyn Reporter) -> Result<PenaltyReport> {
     let plans = plan(study, factors)?;
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    let (mut faces, mut means, mut summaries) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut faces, mut means, mut summaries, mut warnings) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for (factor, scene) in &plans {
         let sub = dir.join(format!("fem_eps{factor}"));
         let job = Job {
@@ -64,7 +67,9 @@ pub fn run_study(study: &Study, factors: &[u32], dir: &Path, rep: &dyn Reporter)
             dir: &sub,
             keep: Keep::OnFailure,
         };
-        let out = run_fem(job, rep)?.completed()?;
+        let f = run_fem(job, rep)?;
+        warnings.extend(f.warnings.iter().cloned());
+        let out = f.completed()?;
         faces.extend(face_rows(*factor, scene, &out));
         means.extend(mean_rows(*factor, scene, &out));
         summaries.push(summary(*factor, scene, &out));
@@ -84,6 +89,7 @@ pub fn run_study(study: &Study, factors: &[u32], dir: &Path, rep: &dyn Reporter)
         summary: summaries,
         limits,
         files,
+        warnings,
     })
 }
 

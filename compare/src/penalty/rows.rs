@@ -159,6 +159,8 @@ pub(super) mod tests {
                     mean_normal_traction: n,
                     mean_tangential_traction: tt,
                     max_penetration: 2.5e-6,
+                    dropped_contacts_step: 0,
+                    dropped_contacts_total: 0,
                 }
             })
             .collect();

@@ -29,6 +29,8 @@ pub struct SinusoidReport {
     pub files: Vec<PathBuf>,
     /// Runs that went unstable, with when and where.
     pub failures: Vec<String>,
+    /// What the runs did that the user should know.
+    pub warnings: Vec<String>,
 }
 
 /// Runs every model of `study`, writing outputs, summary and figures into `dir`. Every model's
@@ -48,7 +50,7 @@ pub fn run_study(study: &Study, dir: &Path, rep: &dyn Reporter) -> Result<Sinuso
         })
         .collect::<Result<Vec<_>>>()?;
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    let mut runs = Vec::new();
+    let (mut runs, mut warnings) = (Vec::new(), Vec::new());
     for (model, scene) in &scenes {
         let sub = dir.join(model);
         let job = Job {
@@ -58,6 +60,7 @@ pub fn run_study(study: &Study, dir: &Path, rep: &dyn Reporter) -> Result<Sinuso
             keep: Keep::Everything,
         };
         let f = run_fem(job, rep)?;
+        warnings.extend(f.warnings.iter().cloned());
         runs.push(ModelRun {
             model: model.to_string(),
             out: f.out,
@@ -75,6 +78,7 @@ pub fn run_study(study: &Study, dir: &Path, rep: &dyn Reporter) -> Result<Sinuso
         rows,
         files,
         failures: runs.iter().filter_map(|r| r.failure.clone()).collect(),
+        warnings,
     })
 }
 

@@ -107,6 +107,7 @@ pub fn run_point(study: &Study, model: Model, nominal: f64, dir: &std::path::Pat
                 keep: Keep::OnFailure,
             };
             let f = run_fem(job, &Silent)?;
+            f.warnings.iter().for_each(|w| eprintln!("warning: {w}"));
             let wall = f.wall_s;
             (fem_tips(&f.completed()?), point.fem.fem.element_size, wall)
         }

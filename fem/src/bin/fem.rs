@@ -61,6 +61,14 @@ fn main() -> Result<()> {
     for f in files {
         println!("wrote {}", f.display());
     }
+    let record = output.record();
+    if record.dropped_contacts > 0 {
+        eprintln!(
+            "warning: {} contacts were lost because a penetration exceeded the detection distance \
+             fem.max_gap = {} m (per step in contact.csv); raise fem.max_gap or stiffen fem.eps_n",
+            record.dropped_contacts, scene.fem.max_gap
+        );
+    }
     if let Some(msg) = failure {
         bail!("{msg}; the output up to there is in {}", out_dir.display());
     }

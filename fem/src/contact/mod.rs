@@ -17,7 +17,7 @@ use nalgebra::Vector2;
 use crate::law::friction::Friction;
 use forces::{ContactResponse, SlaveHistory, node_geometry, respond, scatter};
 use geometry::{Projection, SegmentFrame};
-use search::{BucketGrid, Limits, Slave, closest_master};
+use search::{BucketGrid, Limits, Slave, closest_master_or_depth};
 
 /// Parameters of the contact pass (docs/fem-model.md §5).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -183,6 +183,8 @@ pub(crate) struct ContactSummary {
     pub friction_dissipation: f64,
     /// Largest penetration [m].
     pub max_penetration: f64,
+    /// Slaves whose only facing master lay deeper than d_max: contacts lost this step [-].
+    pub dropped: usize,
 }
 
 /// One contact pass at the current positions (paper Algorithm 1, docs/fem-model.md §5): bucket search,
@@ -191,13 +193,16 @@ pub(crate) struct ContactSummary {
 /// - `x`: current positions of all nodes [m].
 /// - `tied_twin[i]`: the node i is currently tied to (docs/fem-model.md §3.1), or `u32::MAX`; tied
 ///   twins are never a contact pair.
+/// - `frictionless[i]`: slave i carries no friction this step (empty: every slave does).
 /// - adds the contact forces [N/m] into `f` (all nodes; the caller routes forces on prescribed
 ///   DOFs into reactions and sums tied twins).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn resolve(
     p: &ContactParams,
     surface: &mut DetectionSurface,
     x: &[Vector2<f64>],
     tied_twin: &[u32],
+    frictionless: &[bool],
     state: &mut ContactState,
     ws: &mut ContactWorkspace,
     f: &mut [Vector2<f64>],
@@ -219,6 +224,10 @@ pub(crate) fn resolve(
         eps_t: p.eps_t,
         friction_coeff: p.friction_coeff,
     };
+    let no_friction = Friction {
+        friction_coeff: 0.0,
+        ..law
+    };
     let limits = Limits {
         max_gap: p.max_gap,
         projection_tolerance: p.projection_tolerance,
@@ -233,25 +242,28 @@ pub(crate) fn resolve(
             tied_twin: tied_twin.get(i).copied().unwrap_or(u32::MAX),
             normal: ws.normal[i],
         };
-        let Some((e, proj)) = closest_master(&slave, &ws.grid, segments, &ws.frames, x, &limits) else {
+        let (found, lost) = closest_master_or_depth(&slave, &ws.grid, segments, &ws.frames, x, &limits);
+        let Some((e, proj)) = found else {
+            summary.dropped += usize::from(lost);
             state.clear(i);
             continue;
         };
         let segment = segments[e as usize];
-        let r = respond(
-            p.eps_n,
-            &law,
-            area,
-            (segment, &proj),
-            state.history[i].as_ref(),
-            x,
-        );
+        let law = if frictionless.get(i).copied().unwrap_or(false) {
+            &no_friction
+        } else {
+            &law
+        };
+        let r = respond(p.eps_n, law, area, (segment, &proj), state.history[i].as_ref(), x);
         scatter(f, node, segment, proj.xi_clamped, r.force);
         state.record(i, segment, &proj, &r);
         summary.contacts += 1;
         summary.max_penetration = summary.max_penetration.max(-proj.gap);
-        summary.friction_dissipation +=
-            forces::AVERAGING_WEIGHT * area * p.friction_coeff * r.normal_pressure * r.friction.plastic_slip;
+        summary.friction_dissipation += forces::AVERAGING_WEIGHT
+            * area
+            * law.friction_coeff
+            * r.normal_pressure
+            * r.friction.plastic_slip;
     }
     summary
 }

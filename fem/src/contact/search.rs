@@ -213,6 +213,7 @@ pub(crate) struct Limits {
 /// (docs/fem-model.md §10.8; on ties the lowest segment index, for reproducibility).
 ///
 /// `frames[e]` is segment e's frame at the current positions (`None`: degenerate, never a master).
+#[cfg(test)]
 pub(crate) fn closest_master(
     slave: &Slave,
     grid: &BucketGrid,
@@ -221,9 +222,23 @@ pub(crate) fn closest_master(
     x: &[Vector2<f64>],
     limits: &Limits,
 ) -> Option<(u32, Projection)> {
+    closest_master_or_depth(slave, grid, segments, frames, x, limits).0
+}
+
+/// As [`closest_master`], and whether a facing candidate within the projection tolerance was
+/// rejected only because its penetration exceeds d_max: a contact lost to the detection distance.
+pub(crate) fn closest_master_or_depth(
+    slave: &Slave,
+    grid: &BucketGrid,
+    segments: &[[u32; 2]],
+    frames: &[Option<SegmentFrame>],
+    x: &[Vector2<f64>],
+    limits: &Limits,
+) -> (Option<(u32, Projection)>, bool) {
     let xi_max = 1.0 + limits.projection_tolerance;
     let x_i = x[slave.node as usize];
     let mut best: Option<(u32, Projection)> = None;
+    let mut too_deep = false;
     for &e in grid.candidates(x_i) {
         let [j1, j2] = segments[e as usize];
         let attached = j1 == slave.node || j2 == slave.node;
@@ -234,12 +249,16 @@ pub(crate) fn closest_master(
         if attached || twin {
             continue;
         }
-        // Cheap rejections first: separated, too deep, or not facing.
+        // Cheap rejections first: separated or not facing; then too deep (counted).
         let gap = (x_i - x[j1 as usize]).dot(&frame.normal);
-        if gap >= 0.0 || -gap > limits.max_gap || slave.normal.dot(&frame.normal) >= 0.0 {
+        if gap >= 0.0 || slave.normal.dot(&frame.normal) >= 0.0 {
             continue;
         }
         let p = project_on_frame(x_i, x[j1 as usize], frame);
+        if -gap > limits.max_gap {
+            too_deep |= p.xi.abs() <= xi_max;
+            continue;
+        }
         let better = match &best {
             None => true,
             Some((b, q)) => -p.gap < -q.gap || (-p.gap == -q.gap && e < *b),
@@ -248,5 +267,6 @@ pub(crate) fn closest_master(
             best = Some((e, p));
         }
     }
-    best
+    let lost = best.is_none() && too_deep;
+    (best, lost)
 }

@@ -81,6 +81,7 @@ pub(super) fn run(c: &mut Faces, pass: &mut Pass, p: &ContactParams, twins: &[u3
         &mut c.surface,
         &c.x,
         twins,
+        &[],
         &mut pass.state,
         &mut pass.ws,
         &mut pass.f,
@@ -179,6 +180,17 @@ fn node_behind_bulk_farther_than_max_gap_is_not_paired() {
     run(&mut c, &mut pass, &params(0.0), &[]);
     assert_eq!(pass.summary.contacts, 0);
     assert!(pass.f.iter().all(|f| *f == Vector2::zeros()));
+    // ... and none is lost silently: upper nodes 0-3 (x = 0.3 h ... 3.3 h) and lower nodes 1-4
+    // face a segment within the projection tolerance, 1.5 h deep; the rest project outside
+    assert_eq!(
+        pass.summary.dropped, 8,
+        "every facing node deeper than d_max is counted"
+    );
+    // separated faces (the same faces 1.5 h apart, not penetrating) are not contacts at all
+    let mut apart = faces(4, H, 4, H, 0.3 * H, 1.5 * H);
+    let mut pass = new_pass(&apart);
+    run(&mut apart, &mut pass, &params(0.0), &[]);
+    assert_eq!((pass.summary.contacts, pass.summary.dropped), (0, 0));
 }
 
 #[test]

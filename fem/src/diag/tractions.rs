@@ -22,10 +22,14 @@ pub(crate) fn face_records(model: &Model, state: &State, out: &mut Vec<FaceRecor
         mean_normal_traction: 0.0,
         mean_tangential_traction: 0.0,
         max_penetration: 0.0,
+        dropped_contacts_step: 0,
+        dropped_contacts_total: 0,
     };
     let (Some(row), Some(cp)) = (&model.iface, &state.contact) else {
         return mean;
     };
+    mean.dropped_contacts_step = cp.dropped_step;
+    mean.dropped_contacts_total = cp.dropped_total;
     let cs = &cp.state;
     let (mut area, mut sn, mut st) = (0.0, 0.0, 0.0);
     for i in 0..row.plus.len() {

@@ -75,8 +75,9 @@ pub fn build_with_row_map(
             ModelKind::Standard => ClosingTreatment::Standard { eps_n: f.eps_n },
         },
         insertion_rule: f.insertion_rule,
-        damping: f.damping,
-        damping_factor: f.damping_factor,
+        friction_failed_only: f.contact_friction == crate::scene::ContactFriction::FailedOnly,
+        damping: f.damping.set,
+        damping_factor: f.damping.factor(scene.time_step()),
         contact: scene.has_contact().then_some(ContactParams {
             eps_n: f.eps_n,
             eps_t: f.eps_t,
@@ -151,6 +152,11 @@ fn workspace(model: &Model) -> Workspace {
         },
         f_con: if with_contact {
             vec![Vector2::zeros(); n]
+        } else {
+            Vec::new()
+        },
+        frictionless: if with_contact && model.friction_failed_only {
+            vec![false; n]
         } else {
             Vec::new()
         },
@@ -248,7 +254,7 @@ fn initial_state(model: &Model) -> State {
         fail_time: vec![[f64::NAN; 2]; nf],
         work_density: vec![[0.0; 2]; nf],
         active: Vec::with_capacity(nf),
-        column_insert_step: vec![u64::MAX; nf + 1],
+        column_insert_time: vec![f64::NAN; nf + 1],
     };
     let mut tied_twin = vec![u32::MAX; n];
     let mut contact = None;
@@ -273,6 +279,8 @@ fn initial_state(model: &Model) -> State {
                 ws: ContactWorkspace::new(n, cap),
                 f_prev: vec![Vector2::zeros(); 2 * row.minus.len()],
                 max_penetration: 0.0,
+                dropped_step: 0,
+                dropped_total: 0,
             });
         }
     }

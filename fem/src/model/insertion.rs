@@ -46,7 +46,6 @@ pub(crate) fn check_and_insert(
     tied_twin: &mut [u32],
     contact: Option<&mut ContactPart>,
     u: &[Vector2<f64>],
-    step: u64,
     t: f64,
 ) -> usize {
     let Some(row) = &model.iface else {
@@ -71,8 +70,8 @@ pub(crate) fn check_and_insert(
             continue;
         }
         insert(model, row, law, facets, c, &tq, u, t);
-        facets.column_insert_step[c] = step;
-        facets.column_insert_step[c + 1] = step;
+        facets.column_insert_time[c] = t;
+        facets.column_insert_time[c + 1] = t;
         if let Some(cp) = contact.as_deref_mut().filter(|_| model.facet_detect[c]) {
             add_facet_faces(&mut cp.surface, row, c);
         }

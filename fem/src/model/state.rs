@@ -51,9 +51,13 @@ pub struct Model {
     pub(crate) facet_detect: Vec<bool>,
     pub(crate) closing: ClosingTreatment,
     pub(crate) insertion_rule: InsertionRule,
+    /// Which interface nodes are damped.
     pub(crate) damping: DampingSet,
+    /// Velocity factor c per step of the damped nodes [-] (1: none).
     pub(crate) damping_factor: f64,
     pub(crate) contact: Option<ContactParams>,
+    /// Friction only on faces whose facets have fully failed.
+    pub(crate) friction_failed_only: bool,
     /// Time histories referenced by the boundary DOFs.
     pub(crate) ramps: Vec<Ramp>,
     pub(crate) prescribed: Vec<BoundaryDof>,
@@ -87,8 +91,8 @@ pub(crate) struct Facets {
     pub work_density: Vec<[f64; 2]>,
     /// Inserted facets, in insertion order (capacity: every cohesive facet).
     pub active: Vec<u32>,
-    /// Last step at which a cohesive element touching column i was inserted (u64::MAX: never).
-    pub column_insert_step: Vec<u64>,
+    /// Last time a cohesive element touching column i was inserted [s] (NaN: never).
+    pub column_insert_time: Vec<f64>,
 }
 
 /// Accumulated energies [J/m].
@@ -110,6 +114,9 @@ pub(crate) struct ContactPart {
     /// Contact force of the previous step per interface-row slot [N/m] (minus row then plus row).
     pub f_prev: Vec<Vector2<f64>>,
     pub max_penetration: f64,
+    /// Contacts lost to the detection distance in the last step, and since t = 0 [-].
+    pub dropped_step: usize,
+    pub dropped_total: u64,
 }
 
 /// Evolving state.
@@ -144,6 +151,9 @@ pub struct Workspace {
     pub(crate) x: Vec<Vector2<f64>>,
     /// Contact forces, non-zero on interface-row nodes only [N/m].
     pub(crate) f_con: Vec<Vector2<f64>>,
+    /// Per node: contact friction is off this step (`contact_friction = "failed_only"` and the
+    /// node's facets have not all failed); empty otherwise.
+    pub(crate) frictionless: Vec<bool>,
     /// Interface-row displacements before the predictor [m] (minus row then plus row).
     pub(crate) row_u_old: Vec<Vector2<f64>>,
     /// Ramp values at the current time.

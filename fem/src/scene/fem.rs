@@ -2,8 +2,11 @@
 
 use super::boundary::{BoundarySpec, side};
 use super::checks::{check, option};
+use super::damping::{Damping, damping};
 use super::diagnostics::{Diagnostics, diagnostics};
-use super::interface_spec::{ContactSurface, InterfaceZone, sine_polyline, zones_and_surface};
+use super::interface_spec::{
+    ContactFriction, ContactSurface, InterfaceZone, contact_friction, sine_polyline, zones_and_surface,
+};
 use super::problem::Crack;
 use super::raw::RawFem;
 use crate::error::SceneError;
@@ -35,17 +38,6 @@ pub enum InsertionRule {
     Mean,
 }
 
-/// Nodes whose velocity is scaled each step (docs/fem-model.md §6).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum DampingSet {
-    /// Only slave nodes in contact.
-    ContactOnly,
-    /// Contact slaves and every node of any inserted cohesive element (default).
-    AllCohesive,
-    /// Contact slaves and nodes of cohesive elements inserted within the last N steps.
-    RecentCohesive(u64),
-}
-
 /// Validated `[fem]` section.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FemSpec {
@@ -74,10 +66,8 @@ pub struct FemSpec {
     pub output_interval: f64,
     /// Insertion criterion.
     pub insertion_rule: InsertionRule,
-    /// Damped set.
-    pub damping: DampingSet,
-    /// Velocity scaling factor per step [-] (paper: 0.99).
-    pub damping_factor: f64,
+    /// Which nodes are damped, and how strongly.
+    pub damping: Damping,
     /// Contact detection distance d_max [m] (default h).
     pub max_gap: f64,
     /// Contact projection tolerance ε_ext [-].
@@ -91,6 +81,8 @@ pub struct FemSpec {
     pub interface_zones: Vec<InterfaceZone>,
     /// Which faces form the contact detection surface.
     pub contact_surface: ContactSurface,
+    /// Where contact friction acts.
+    pub contact_friction: ContactFriction,
     /// Section 4 diagnostics the scene asks for (none by default).
     pub diagnostics: Diagnostics,
     /// Probe points (reference positions [m]); the nearest node is recorded.
@@ -147,9 +139,10 @@ fn geometry(f: &RawFem, crack: Option<&Crack>) -> Result<(), SceneError> {
 /// Validates `[fem]` against the pre-crack and the duration.
 pub(crate) fn validate_fem(f: &RawFem, crack: Option<&Crack>, duration: f64) -> Result<FemSpec, SceneError> {
     geometry(f, crack)?;
-    let (model, insertion_rule, damping) = options(f)?;
+    let (model, insertion_rule) = options(f)?;
+    let damping = damping(f)?;
     let (time_step_safety, eps_n, eps_t) = step_and_penalties(f, duration)?;
-    let (damping_factor, max_gap, projection_tolerance) = damping_and_contact(f)?;
+    let (max_gap, projection_tolerance) = contact_distances(f)?;
     let (upper_offset, boundary) = blocks_and_boundary(f, crack)?;
     let (interface_zones, contact_surface) = zones_and_surface(f)?;
     let interface_polyline = match &f.interface_sine {
@@ -175,21 +168,21 @@ pub(crate) fn validate_fem(f: &RawFem, crack: Option<&Crack>, duration: f64) -> 
         output_interval: f.output_interval,
         insertion_rule,
         damping,
-        damping_factor,
         max_gap,
         projection_tolerance,
         upper_offset,
         interface_polyline,
         interface_zones,
         contact_surface,
+        contact_friction: contact_friction(f)?,
         diagnostics: diagnostics(f, duration)?,
         probes: probes(f)?,
         boundary,
     })
 }
 
-/// The string options: model, insertion rule, damped set.
-fn options(f: &RawFem) -> Result<(ModelKind, InsertionRule, DampingSet), SceneError> {
+/// The string options: model and insertion rule.
+fn options(f: &RawFem) -> Result<(ModelKind, InsertionRule), SceneError> {
     let model = option(
         "fem.model",
         f.model.as_ref(),
@@ -204,19 +197,7 @@ fn options(f: &RawFem) -> Result<(ModelKind, InsertionRule, DampingSet), SceneEr
         &[("max", InsertionRule::Max), ("mean", InsertionRule::Mean)],
         "\"max\" or \"mean\"",
     )?;
-    let recent = f.damping_recent_steps.unwrap_or(100);
-    let damping = option(
-        "fem.damping",
-        f.damping.as_ref(),
-        DampingSet::AllCohesive,
-        &[
-            ("contact_only", DampingSet::ContactOnly),
-            ("all_cohesive", DampingSet::AllCohesive),
-            ("recent_cohesive", DampingSet::RecentCohesive(recent)),
-        ],
-        "\"contact_only\", \"all_cohesive\" or \"recent_cohesive\"",
-    )?;
-    Ok((model, insertion_rule, damping))
+    Ok((model, insertion_rule))
 }
 
 /// Safety factor α, requested step, output interval and penalties (α, ε_n, ε_t).
@@ -245,10 +226,8 @@ fn step_and_penalties(f: &RawFem, duration: f64) -> Result<(f64, f64, f64), Scen
     Ok((alpha, eps_n, eps_t))
 }
 
-/// Damping factor, detection distance d_max [m] and projection tolerance.
-fn damping_and_contact(f: &RawFem) -> Result<(f64, f64, f64), SceneError> {
-    let c = f.damping_factor.unwrap_or(0.99);
-    check("fem.damping_factor", c, c > 0.0 && c <= 1.0, "(0, 1]")?;
+/// Detection distance d_max [m] and projection tolerance.
+fn contact_distances(f: &RawFem) -> Result<(f64, f64), SceneError> {
     let max_gap = f.max_gap.unwrap_or(f.element_size);
     check("fem.max_gap", max_gap, max_gap > 0.0, "> 0 m")?;
     let tol = f.projection_tolerance.unwrap_or(1e-3);
@@ -258,7 +237,7 @@ fn damping_and_contact(f: &RawFem) -> Result<(f64, f64, f64), SceneError> {
         (0.0..0.5).contains(&tol),
         "[0, 0.5)",
     )?;
-    Ok((c, max_gap, tol))
+    Ok((max_gap, tol))
 }
 
 /// Upper-block offset (full-width pre-crack only) and side-wise boundary conditions (required

@@ -7,6 +7,17 @@ use super::raw::{RawFem, RawSine, RawZone};
 use crate::error::SceneError;
 use crate::law::cohesive::LinearCohesive;
 
+/// Where contact friction acts on crack faces.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ContactFriction {
+    /// On every face in contact, partially damaged cohesive facets included, on top of their
+    /// cohesive shear (paper §2.3, Figure 4d; default).
+    AllFaces,
+    /// Only on faces whose facets have fully failed (damage 1) or are pre-crack, as the spectral
+    /// model applies friction only where the interface has broken (paper §3.2).
+    FailedOnly,
+}
+
 /// A stretch of the interface row with its own cohesive law (paper Section 4's weak interface).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct InterfaceZone {
@@ -89,6 +100,20 @@ fn zone(f: &RawFem, z: &RawZone) -> Result<InterfaceZone, SceneError> {
             kappa: z.kappa,
         },
     })
+}
+
+/// Where contact friction acts (`fem.contact_friction`).
+pub(crate) fn contact_friction(f: &RawFem) -> Result<ContactFriction, SceneError> {
+    option(
+        "fem.contact_friction",
+        f.contact_friction.as_ref(),
+        ContactFriction::AllFaces,
+        &[
+            ("all_faces", ContactFriction::AllFaces),
+            ("failed_only", ContactFriction::FailedOnly),
+        ],
+        "\"all_faces\" or \"failed_only\"",
+    )
 }
 
 /// Validated zones (non-overlapping) and the contact surface choice.

@@ -4,6 +4,7 @@
 
 use crate::model::state::{Model, State, Workspace};
 use crate::model::{bulk, cohesive, insertion};
+use crate::scene::DampingSet;
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -48,7 +49,6 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
         &mut state.tied_twin,
         state.contact.as_mut(),
         &state.u,
-        state.step,
         t1,
     );
     ws.cohesive_seconds += clock.elapsed().as_secs_f64();
@@ -184,21 +184,25 @@ fn restore_prescribed(model: &Model, state: &mut State) {
 /// velocity, the other is damped like its neighbours'); the removed energy goes to E_damp.
 fn damping(model: &Model, state: &mut State) {
     let Some(row) = &model.iface else { return };
+    if model.damping == DampingSet::None {
+        return;
+    }
     let c = model.damping_factor;
     let in_contact = |n: usize| state.contact.as_ref().is_some_and(|cp| cp.state.in_contact[n]);
     let mut removed = 0.0;
     for i in 0..row.minus.len() {
         let (m, p) = (row.minus[i] as usize, row.plus[i] as usize);
-        let coh = match model.damping {
-            crate::scene::DampingSet::ContactOnly => false,
-            crate::scene::DampingSet::AllCohesive => state.facets.column_insert_step[i] != u64::MAX,
-            crate::scene::DampingSet::RecentCohesive(n) => {
-                let s = state.facets.column_insert_step[i];
-                s != u64::MAX && state.step - s < n
-            }
+        let inserted = state.facets.column_insert_time[i];
+        let recent = |window: f64| state.t - inserted < window;
+        let (coh, contact) = match model.damping {
+            DampingSet::None => (false, false),
+            DampingSet::ContactOnly => (false, true),
+            DampingSet::Inserted { window } => (recent(window), false),
+            DampingSet::ContactAndInserted { window } => (recent(window), true),
+            DampingSet::AllCohesive => (!inserted.is_nan(), true),
         };
         let tied = state.tied_twin[m] == p as u32;
-        let (mut dm, mut dp) = (coh || in_contact(m), coh || in_contact(p));
+        let (mut dm, mut dp) = (coh || contact && in_contact(m), coh || contact && in_contact(p));
         if tied {
             dm |= dp;
             dp = dm;

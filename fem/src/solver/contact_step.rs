@@ -15,17 +15,23 @@ pub(crate) fn contact(model: &Model, state: &mut State, ws: &mut Workspace) {
         let n = n as usize;
         ws.x[n] = model.grid.x0[n] + state.u[n];
     }
+    if model.friction_failed_only {
+        failed_faces_only(row, &state.facets, &mut ws.frictionless);
+    }
     let summary = contact::resolve(
         params,
         &mut cp.surface,
         &ws.x,
         &state.tied_twin,
+        &ws.frictionless,
         &mut cp.state,
         &mut cp.ws,
         &mut ws.f_con,
     );
     state.energy.friction += summary.friction_dissipation;
     cp.max_penetration = summary.max_penetration;
+    cp.dropped_step = summary.dropped;
+    cp.dropped_total += summary.dropped as u64;
     let mut work = 0.0;
     for (slot, &node) in row.minus.iter().chain(row.plus.iter()).enumerate() {
         let n = node as usize;
@@ -37,4 +43,28 @@ pub(crate) fn contact(model: &Model, state: &mut State, ws: &mut Workspace) {
         ws.f_con[n] = Vector2::zeros();
     }
     state.energy.contact_work += work;
+}
+
+/// `contact_friction = "failed_only"`: friction is off on a node of column i unless every facet
+/// touching the column is a pre-crack or a cohesive element that has fully failed (damage 1 at
+/// both Gauss points), i.e. friction acts only where the interface has broken (paper §3.2).
+fn failed_faces_only(
+    row: &crate::mesh::interfaces::InterfaceRow,
+    facets: &crate::model::state::Facets,
+    frictionless: &mut [bool],
+) {
+    use crate::mesh::interfaces::FacetKind;
+    let nf = row.num_facets();
+    for i in 0..row.minus.len() {
+        let broken = [i.wrapping_sub(1), i]
+            .iter()
+            .filter(|&&c| c < nf)
+            .all(|&c| match row.kind[c] {
+                FacetKind::PreCrack => true,
+                FacetKind::Cohesive => facets.inserted[c] && facets.gauss[c].iter().all(|g| g.damage >= 1.0),
+                FacetKind::Plain => false,
+            });
+        frictionless[row.minus[i] as usize] = !broken;
+        frictionless[row.plus[i] as usize] = !broken;
+    }
 }

@@ -22,7 +22,14 @@ pub fn run_with_progress(scene: &Scene, progress: &mut dyn FnMut(u64, u64)) -> R
     let report = (total / 200).max(1);
     let mut out = RunOutput {
         time_step: dt,
+        model: match scene.fem.model {
+            crate::scene::ModelKind::Hybrid => "hybrid",
+            crate::scene::ModelKind::Standard => "standard",
+        }
+        .to_string(),
         lateral_contraction: model.lateral_contraction,
+        mode_ii_uy: scene.fem.mode_ii_uy,
+        damping: scene.fem.damping.describe(),
         ..RunOutput::default()
     };
     Recorder { out: &mut out }.observe(&model, &state, &ws);
