@@ -3,6 +3,7 @@
 //! tolerances, writes CSV and PNG. One module folder per study over a shared reading of the
 //! scene ([`study`]), running of the models ([`runner`]) and plotting ([`plot`]).
 
+pub mod boundary;
 pub mod converged;
 pub mod gate;
 pub mod output;

@@ -56,6 +56,14 @@ enum Job {
               value_parser = clap::value_parser!(u32).range(1..))]
         factors: Vec<u32>,
     },
+    /// How the FE–spectral agreement depends on the FE box and its boundary field: the
+    /// comparison in boxes k × (4a × 2a) with the case's field and the exact elastic one.
+    Boundary {
+        /// Box factors k, comma-separated whole numbers ≥ 1.
+        #[arg(long, value_delimiter = ',', default_values_t = compare::boundary::BOX_FACTORS,
+              value_parser = clap::value_parser!(u32).range(1..))]
+        boxes: Vec<u32>,
+    },
     /// Paper Section 4: the standard against the hybrid model on the sinusoidal interface, every
     /// model of [compare].models; exits non-zero if a run goes unstable (its output is kept).
     Sinusoid,
@@ -186,6 +194,28 @@ fn real_main() -> Result<bool> {
             Ok(verdict_line(&report.gate.verdicts))
         }
         Some(Job::Sweep) => run_sweep(&study, &scene_path, &out("-sweep")),
+        Some(Job::Boundary { boxes }) => {
+            let dir = out("-boundary");
+            let report = compare::boundary::run_study(&study, &boxes, &dir, &bars)?;
+            println!(
+                "\n{:>6} {:>6} {:>6} {:>14} {:>12} {:>14} {:>8}",
+                "box", "field", "mu", "onset lag/T", "RMS/a", "speed diff", "wall s"
+            );
+            for r in &report.rows {
+                println!(
+                    "{:>5}a {:>6} {:>6} {:>14.5} {:>12.4} {:>13.2}% {:>8.1}",
+                    4 * r.box_factor,
+                    format!("{:?}", r.field).to_lowercase(),
+                    r.mu,
+                    r.onset_lag_over_t,
+                    r.tip_position_rms_over_a,
+                    100.0 * r.mean_speed_difference,
+                    r.wall_s
+                );
+            }
+            println!("\n{} files written to {}", report.files.len(), dir.display());
+            Ok(true)
+        }
         Some(Job::Penalty { factors }) => {
             let dir = out("-penalty");
             let report = compare::penalty::run_study(&study, &factors, &dir, &bars)?;

@@ -26,8 +26,8 @@ pub use model::state::{Model, State, Workspace};
 /// Re-export of the vector type used at the API (`Vector2<f64>`), so callers need not depend on nalgebra.
 pub use nalgebra;
 pub use output::{
-    ArrivalRecord, ContactMeanRecord, EnergyRecord, FaceRecord, FieldRecord, InterfaceRecord, KktRecord,
-    ProbeRecord, ProfileRecord, ResidualStressRecord, RunOutput, RunRecord, TipRecord, write_csv,
+    ArrivalRecord, ContactMeanRecord, EnergyRecord, FaceRecord, FieldRecord, FrictionRecord, InterfaceRecord,
+    KktRecord, ProbeRecord, ProfileRecord, ResidualStressRecord, RunOutput, RunRecord, TipRecord, write_csv,
 };
 pub use scene::Scene;
 pub use solver::central_difference::step;

@@ -84,6 +84,10 @@ pub struct EnergyRecord {
     pub damping_removed: f64,
     /// Work of the contact forces W_con (≤ 0 when dissipative) [J/m].
     pub contact_work: f64,
+    /// Energy stored in the contact penalty springs now, Σ w A (½ ε_n p² + T²/(2 ε_t)) over the
+    /// slaves in contact [J/m], from the penetrations and tractions (not from the applied forces).
+    /// Frictionless contact is conservative: W_con + E_stored = 0 at every sample.
+    pub contact_stored: f64,
     /// Work of the boundary forces W_ext [J/m].
     pub boundary_work: f64,
     /// Residual W_ext + W_con − (E_kin + E_strain + E_coh,tot + E_damp) [J/m].
@@ -199,6 +203,20 @@ pub struct ProfileRecord {
     pub compressive_traction: f64,
 }
 
+/// Friction audit of one slave node at the end of the run (`friction.csv`, runs with μ > 0).
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct FrictionRecord {
+    /// Reference position x [m].
+    pub x: f64,
+    /// Reference position y [m].
+    pub y: f64,
+    /// Work done against the friction traction, Σ −w A T Δs over the steps in contact [J/m]:
+    /// what friction took out of the sliding at this node (never negative for a dissipative law).
+    pub friction_work: f64,
+    /// Its Coulomb bound Σ w A μ p_N |Δs| over the slipping steps [J/m].
+    pub coulomb_work: f64,
+}
+
 /// What a run was: its step, its modelling choices and its energy bill (`run.csv`, one row).
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct RunRecord {
@@ -252,6 +270,8 @@ pub struct RunOutput {
     pub energy: Vec<EnergyRecord>,
     /// Insertion/failure times per interface Gauss point (at the end of the run).
     pub arrivals: Vec<ArrivalRecord>,
+    /// Friction audit per slave node that ever carried friction (at the end of the run).
+    pub friction: Vec<FrictionRecord>,
     /// Probe histories.
     pub probes: Vec<ProbeRecord>,
     /// Residual stress of eq. (17) per sample (only with `residual_stress_x`).
@@ -271,6 +291,21 @@ pub struct RunOutput {
 }
 
 impl RunOutput {
+    /// The contact audit of frictionless contact: max over samples of |W_con + E_stored| over the
+    /// largest stored penalty energy [-] (0 without contact). Conservative contact keeps it at the
+    /// time-integration error; a contact force that creates or loses energy does not.
+    pub fn contact_conservation_error(&self) -> f64 {
+        let scale = self.energy.iter().map(|e| e.contact_stored).fold(0.0, f64::max);
+        if scale <= 0.0 {
+            return 0.0;
+        }
+        self.energy
+            .iter()
+            .map(|e| (e.contact_work + e.contact_stored).abs())
+            .fold(0.0, f64::max)
+            / scale
+    }
+
     /// The run's record: its choices and, from the last energy sample, its damping bill.
     pub fn record(&self) -> RunRecord {
         let last = self.energy.last().copied().unwrap_or_default();
@@ -306,7 +341,8 @@ fn write<T: Serialize>(dir: &Path, name: &str, rows: &[T], out: &mut Vec<PathBuf
 }
 
 /// Writes run.csv, tips.csv, interface.csv, faces.csv, contact.csv, energy.csv, arrivals.csv,
-/// probes.csv and, when declared, residual_stress.csv, kkt.csv, field.csv, profile.csv into `dir`.
+/// probes.csv, friction.csv (with friction) and, when declared, residual_stress.csv, kkt.csv,
+/// field.csv, profile.csv into `dir`.
 pub fn write_csv(output: &RunOutput, dir: &Path) -> io::Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir)?;
     let mut out = Vec::new();
@@ -318,6 +354,9 @@ pub fn write_csv(output: &RunOutput, dir: &Path) -> io::Result<Vec<PathBuf>> {
     write(dir, "energy.csv", &output.energy, &mut out)?;
     write(dir, "arrivals.csv", &output.arrivals, &mut out)?;
     write(dir, "probes.csv", &output.probes, &mut out)?;
+    if !output.friction.is_empty() {
+        write(dir, "friction.csv", &output.friction, &mut out)?;
+    }
     // the Section 4 diagnostics exist only when the scene declares them
     if !output.residual_stress.is_empty() {
         write(dir, "residual_stress.csv", &output.residual_stress, &mut out)?;

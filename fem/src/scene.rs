@@ -82,6 +82,20 @@ impl Scene {
         self.variant(|r| r.fem.element_size = element_size)
     }
 
+    /// The same scene on the FE domain `x_range` × `y_range` [m] (the interface row stays at y = 0).
+    pub fn with_domain(&self, x_range: [f64; 2], y_range: [f64; 2]) -> Result<Scene, SceneError> {
+        self.variant(|r| {
+            r.fem.x_range = x_range;
+            r.fem.y_range = y_range;
+        })
+    }
+
+    /// The same scene with or without the mode-II part of u_y in the boundary field (paper
+    /// eq. C.9 drops it; with it the field is an exact elastic solution).
+    pub fn with_mode_ii_uy(&self, exact: bool) -> Result<Scene, SceneError> {
+        self.variant(|r| r.fem.mode_ii_uy = Some(exact))
+    }
+
     /// The same scene with contact penalties ε_n, ε_t [Pa/m] (the stable step follows, eq. 12).
     pub fn with_penalties(&self, eps_n: f64, eps_t: f64) -> Result<Scene, SceneError> {
         self.variant(|r| {
@@ -323,6 +337,13 @@ mod tests {
             s.with_element_size(0.7e-3).is_err(),
             "0.7 mm does not fit the domain"
         );
+        let big = s.with_domain([-0.5, 0.5], [-0.25, 0.25]).unwrap();
+        assert_eq!(big.fem.x_range, [-0.5, 0.5]);
+        assert!(
+            s.with_domain([-0.5, 0.5], [0.1, 0.25]).is_err(),
+            "y = 0 must be inside"
+        );
+        assert!(s.with_mode_ii_uy(true).unwrap().fem.mode_ii_uy);
         let standard = s.with_model(ModelKind::Standard).unwrap();
         assert_eq!(standard.fem.model, ModelKind::Standard);
         assert_eq!(

@@ -70,6 +70,9 @@ pub(crate) struct ContactResponse {
     pub friction: FrictionStep,
     /// Total force on the slave before averaging, F = A_i (p_N n_e + T t_e) [N/m].
     pub force: Vector2<f64>,
+    /// Relative slip of the slave over the master this step, Δs along t_e [m] (0 on the first
+    /// contact step, which has no history).
+    pub slip: f64,
 }
 
 /// Normal penalty (eq. 8 left, §5.2) and friction return map (§5.3) for slave `node` of area
@@ -96,7 +99,7 @@ pub(crate) fn respond(
 ) -> ContactResponse {
     let p_n = normal_pressure(eps_n, -proj.gap);
     let t_e = proj.frame.tangent;
-    let friction = match history {
+    let (friction, slip) = match history {
         Some(h) if law.friction_coeff > 0.0 => {
             let x_rho = point_at(x[segment[0] as usize], x[segment[1] as usize], proj.xi);
             let [k1, k2] = h.segment;
@@ -107,18 +110,22 @@ pub(crate) fn respond(
                 slip: (x_rho - x_rho_prev).dot(&t_e),
                 normal_pressure: p_n,
             };
-            return_map(law, &input)
+            (return_map(law, &input), input.slip)
         }
-        _ => FrictionStep {
-            traction: 0.0,
-            slipping: law.friction_coeff == 0.0,
-            plastic_slip: 0.0,
-        },
+        _ => (
+            FrictionStep {
+                traction: 0.0,
+                slipping: law.friction_coeff == 0.0,
+                plastic_slip: 0.0,
+            },
+            0.0,
+        ),
     };
     ContactResponse {
         normal_pressure: p_n,
         friction,
         force: (proj.frame.normal * p_n + t_e * friction.traction) * area,
+        slip,
     }
 }
 

@@ -15,6 +15,7 @@ mod tests_sliding;
 use nalgebra::Vector2;
 
 use crate::law::friction::Friction;
+pub(crate) use forces::AVERAGING_WEIGHT;
 use forces::{ContactResponse, SlaveHistory, node_geometry, respond, scatter};
 use geometry::{Projection, SegmentFrame};
 use search::{BucketGrid, Limits, Slave, closest_master_or_depth};
@@ -105,6 +106,12 @@ pub(crate) struct ContactState {
     pub slipping: Vec<bool>,
     /// Nodal area A_i [m] (per unit thickness).
     pub area: Vec<f64>,
+    /// Work done against the friction traction since t = 0, Σ −w A T Δs over every step in
+    /// contact: the energy friction takes out of the relative sliding at this slave [J/m]. An
+    /// audit quantity, summed from the kinematic slip, not from the return map's plastic slip.
+    pub friction_work: Vec<f64>,
+    /// The Coulomb bound of that work, Σ w A μ p_N |Δs| over the slipping steps [J/m].
+    pub coulomb_work: Vec<f64>,
     /// Friction history of the last step's contact element (None: no contact, history reset).
     history: Vec<Option<SlaveHistory>>,
 }
@@ -119,6 +126,8 @@ impl ContactState {
             tangential_traction: vec![0.0; num_nodes],
             slipping: vec![false; num_nodes],
             area: vec![0.0; num_nodes],
+            friction_work: vec![0.0; num_nodes],
+            coulomb_work: vec![0.0; num_nodes],
             history: vec![None; num_nodes],
         }
     }
@@ -259,11 +268,13 @@ pub(crate) fn resolve(
         state.record(i, segment, &proj, &r);
         summary.contacts += 1;
         summary.max_penetration = summary.max_penetration.max(-proj.gap);
-        summary.friction_dissipation += forces::AVERAGING_WEIGHT
-            * area
-            * law.friction_coeff
-            * r.normal_pressure
-            * r.friction.plastic_slip;
+        let w_area = forces::AVERAGING_WEIGHT * area;
+        summary.friction_dissipation +=
+            w_area * law.friction_coeff * r.normal_pressure * r.friction.plastic_slip;
+        state.friction_work[i] -= w_area * r.friction.traction * r.slip;
+        if r.friction.slipping && law.friction_coeff > 0.0 {
+            state.coulomb_work[i] += w_area * law.friction_coeff * r.normal_pressure * r.slip.abs();
+        }
     }
     summary
 }

@@ -55,6 +55,7 @@ pub fn run_with_progress(scene: &Scene, progress: &mut dyn FnMut(u64, u64)) -> R
             let v = state.v[b.node];
             out.steps = state.step;
             out.arrivals = tips::arrivals(&model, &state);
+            out.friction = crate::diag::energy::friction_records(&model, &state);
             (out.cohesive_seconds, out.contact_seconds) = ws.profile_seconds();
             return Err(RunError::Unstable {
                 step: state.step,
@@ -71,6 +72,7 @@ pub fn run_with_progress(scene: &Scene, progress: &mut dyn FnMut(u64, u64)) -> R
     }
     out.steps = state.step;
     out.arrivals = tips::arrivals(&model, &state);
+    out.friction = crate::diag::energy::friction_records(&model, &state);
     (out.cohesive_seconds, out.contact_seconds) = ws.profile_seconds();
     Ok(out)
 }

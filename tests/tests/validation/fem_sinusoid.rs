@@ -106,6 +106,29 @@ fn standard_against_hybrid_on_the_sinusoidal_interface() {
         worst_balance(&hyb_out) < TOL_BALANCE_REL,
         "hybrid: energy balance"
     );
+    // paper §4.2: the weak interface starts damaging first (the strong one only once the crack
+    // gets there)
+    for (s, out) in [(&std_s, &std_out), (&hyb_s, &hyb_out)] {
+        let first = |weak: bool| {
+            out.arrivals
+                .iter()
+                .filter(|r| (r.x.abs() > junction) != weak && r.x.abs() > a)
+                .map(|r| r.insertion_time)
+                .filter(|t| t.is_finite())
+                .fold(f64::INFINITY, f64::min)
+        };
+        println!(
+            "{}: first insertion on the weak interface t/T = {:.4}, on the strong interface t/T = {:.4}",
+            s.model,
+            first(true) / 0.06,
+            first(false) / 0.06
+        );
+        assert!(
+            first(true) < first(false),
+            "{}: the strong interface damaged first",
+            s.model
+        );
+    }
     assert!(
         hyb_s.max_kkt_share <= MAX_HYBRID_KKT_SHARE,
         "hybrid KKT-violation share {} > {MAX_HYBRID_KKT_SHARE}",

@@ -30,6 +30,8 @@ mod fem_center_crack;
 #[cfg(feature = "fem")]
 mod fem_cohesive_law;
 #[cfg(feature = "fem")]
+mod fem_contact_energy;
+#[cfg(feature = "fem")]
 mod fem_contact_pressure;
 #[cfg(feature = "fem")]
 mod fem_energy_conservation;
