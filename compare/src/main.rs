@@ -1,14 +1,16 @@
 //! `cargo run --release -p compare [-- JOB] [OPTIONS]`: the harness's command line.
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, anyhow};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use compare::gate::metrics::{PAPER_RESOLUTION, Verdict};
 use compare::runner::Reporter;
 use compare::study::Study;
 use compare::sweep::{self, Model};
 use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
+use preflight::budget::{DEFAULT_MAX_BYTES, DEFAULT_MAX_STEPS};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::AtomicBool;
 
 /// Runs the FE and the spectral model on one scene and checks that they agree (paper Section 3);
 /// the other jobs reproduce the paper's further studies.
@@ -35,9 +37,16 @@ struct Common {
     /// `sinusoid`).
     #[arg(long, global = true, value_name = "FILE")]
     scene: Option<PathBuf>,
-    /// Output folder (default: out/<scene name>[-<job>]/).
+    /// Output folder (default: out/<scene file name>[-<job>]/).
     #[arg(long, global = true, value_name = "DIR")]
     out: Option<PathBuf>,
+    /// Memory budget of each run [GiB]: a study with a run estimated above it is refused before
+    /// its first run.
+    #[arg(long, global = true, value_name = "GIB", default_value_t = (DEFAULT_MAX_BYTES >> 30) as f64)]
+    max_memory: f64,
+    /// Time-step budget of each run.
+    #[arg(long, global = true, value_name = "N", default_value_t = DEFAULT_MAX_STEPS)]
+    max_steps: u64,
 }
 
 #[derive(Debug, Subcommand)]
@@ -85,9 +94,13 @@ enum PointModel {
     Spectral,
 }
 
-struct Bars(MultiProgress);
+struct Bars(MultiProgress, &'static AtomicBool);
 
 impl Reporter for Bars {
+    fn stop(&self) -> &AtomicBool {
+        self.1
+    }
+
     fn run_started(&self, label: &str) -> Box<dyn FnMut(u64, u64) + Send + '_> {
         let style =
             ProgressStyle::with_template("{prefix} [{bar:40}] {pos}/{len} steps ({elapsed}, eta {eta})")
@@ -108,6 +121,19 @@ impl Reporter for Bars {
     }
 }
 
+/// No progress bars (a sweep point's parent draws its own), but stops on Ctrl-C.
+struct Quiet(&'static AtomicBool);
+
+impl Reporter for Quiet {
+    fn run_started(&self, _label: &str) -> Box<dyn FnMut(u64, u64) + Send + '_> {
+        Box::new(|_, _| {})
+    }
+
+    fn stop(&self) -> &AtomicBool {
+        self.0
+    }
+}
+
 fn default_scene(file: &str) -> PathBuf {
     let local = PathBuf::from("scenes").join(file);
     if local.exists() {
@@ -124,12 +150,13 @@ fn print_table(verdicts: &[Verdict]) {
     );
     for v in verdicts {
         println!(
-            "{:<38} {:>8} {:>12.5} {:>10} {:>6}",
+            "{:<38} {:>8} {:>12.5} {:>10} {:>6} {}",
             v.metric,
             v.mu,
             v.value,
             v.tolerance,
-            if v.pass { "yes" } else { "NO" }
+            if v.pass { "yes" } else { "NO" },
+            v.note
         );
     }
 }
@@ -168,14 +195,20 @@ fn real_main() -> Result<bool> {
         _ => "center-crack.toml",
     };
     let scene_path = cli.common.scene.unwrap_or_else(|| default_scene(file));
-    let study = Study::load(&scene_path)?;
+    let mut study = Study::load(&scene_path)?;
+    study.budget = preflight::Budget::new(cli.common.max_memory, cli.common.max_steps);
+    if let Some(dir) = &cli.common.out {
+        preflight::paths::explicit(dir).map_err(|e| anyhow!(e))?;
+    }
     let out = |suffix: &str| {
-        cli.common
-            .out
-            .clone()
-            .unwrap_or_else(|| PathBuf::from("out").join(format!("{}{suffix}", study.stem)))
+        cli.common.out.clone().unwrap_or_else(|| {
+            PathBuf::from("out").join(format!("{}{suffix}", preflight::paths::folder_name(&study.stem)))
+        })
     };
-    let bars = Bars(MultiProgress::new());
+    let bars = Bars(
+        MultiProgress::new(),
+        preflight::stop::on_signal().map_err(|e| anyhow!(e))?,
+    );
     match cli.job {
         None => {
             let dir = out("");
@@ -242,7 +275,8 @@ fn real_main() -> Result<bool> {
                 PointModel::Spectral => Model::Spectral,
             };
             anyhow::ensure!(size > 0.0 && size.is_finite(), "--size must be > 0 m");
-            sweep::print_point(&sweep::run_point(&study, model, size, &out("-sweep"))?)?;
+            let quiet = Quiet(bars.1);
+            sweep::print_point(&sweep::run_point(&study, model, size, &out("-sweep"), &quiet)?)?;
             Ok(true)
         }
     }
@@ -250,12 +284,13 @@ fn real_main() -> Result<bool> {
 
 fn run_sweep(study: &Study, scene: &Path, dir: &Path) -> Result<bool> {
     let points = sweep::plan(study)?;
+    sweep::preflight(study, &points, dir)?;
     let exe = std::env::current_exe().context("locating the compare executable")?;
     let bar = ProgressBar::new(points.len() as u64).with_style(
         ProgressStyle::with_template("sweep [{bar:40}] {pos}/{len} points ({elapsed}) {msg}")
             .expect("invariant: the template is valid"),
     );
-    let measured = sweep::run_children(&exe, scene, dir, &mut |p| {
+    let measured = sweep::run_children(&exe, scene, dir, study.budget, &mut |p| {
         bar.set_message(format!(
             "{:?} h = {:.2e} m: {:.1} s",
             p.model, p.spacing, p.wall_s
@@ -270,7 +305,7 @@ fn run_sweep(study: &Study, scene: &Path, dir: &Path) -> Result<bool> {
     );
     for r in &rows {
         println!(
-            "{:<9} {:>10.3e} {:>10.3e} {:>9.1} {:>9.0} {:>9.5} {:>11.4} {:>9.4}",
+            "{:<9} {:>10.3e} {:>10.3e} {:>9.1} {:>9.0} {:>9.5} {:>11.4} {:>9.4} {}",
             r.model.tag(),
             r.spacing,
             r.time_step,
@@ -278,7 +313,8 @@ fn run_sweep(study: &Study, scene: &Path, dir: &Path) -> Result<bool> {
             r.peak_memory_bytes / 1048576.0,
             r.onset,
             r.onset_error_over_t,
-            r.speed_error_rel
+            r.speed_error_rel,
+            r.note
         );
     }
     let files = sweep::write_results(dir, &rows)?;

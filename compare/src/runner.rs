@@ -4,14 +4,23 @@
 //! output records (docs/solver-api.md).
 
 use crate::series::TipRow;
+use crate::study::Study;
 use anyhow::{Context, Result};
 use std::path::Path;
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
-/// Progress reporting for long runs: the binary draws progress bars, tests stay silent.
+/// Progress reporting for long runs, and the request to stop them: the binary draws progress
+/// bars and stops on Ctrl-C, tests stay silent.
 pub trait Reporter: Sync {
     /// A run labelled `label` starts; returns its callback `(steps_done, total_steps)`.
     fn run_started(&self, label: &str) -> Box<dyn FnMut(u64, u64) + Send + '_>;
+
+    /// The flag that stops the runs at their next step (never raised by default).
+    fn stop(&self) -> &AtomicBool {
+        static NEVER: AtomicBool = AtomicBool::new(false);
+        &NEVER
+    }
 }
 
 /// A reporter that reports nothing.
@@ -21,6 +30,38 @@ impl Reporter for Silent {
     fn run_started(&self, _label: &str) -> Box<dyn FnMut(u64, u64) + Send + '_> {
         Box::new(|_, _| {})
     }
+}
+
+/// Everything about the runs of a study that can be checked before the first of them starts:
+/// each run's steps and memory against the study's budget (with the run's label, the estimate
+/// and the key to change) and the study's output folder (created and written to). The spectral
+/// kernel fits are computed here too, and kept for the runs.
+pub fn preflight(
+    study: &Study,
+    fem_runs: &[(&str, &fem::Scene)],
+    spectral_runs: &[(&str, &spectral::Scene)],
+    dir: &Path,
+) -> Result<()> {
+    let mut problems = Vec::new();
+    for (label, scene) in fem_runs {
+        if let Err(e) = study.budget.check(&fem::estimate(scene)) {
+            problems.push(format!("{label}: {e}"));
+        }
+    }
+    for (label, scene) in spectral_runs {
+        match spectral::estimate(scene) {
+            Ok(estimate) => {
+                if let Err(e) = study.budget.check(&estimate) {
+                    problems.push(format!("{label}: {e}"));
+                }
+            }
+            Err(e) => problems.push(format!("{label}: {e}")),
+        }
+    }
+    if !problems.is_empty() {
+        anyhow::bail!("{}", problems.join("\n"));
+    }
+    preflight::paths::claim(dir, "compare").map_err(|e| anyhow::anyhow!(e))
 }
 
 /// How a run ended.
@@ -69,6 +110,14 @@ fn unstable(label: &str, dir: &Path, step: u64, time_s: f64, location: &str) -> 
     )
 }
 
+/// A run stopped on request ends its study: when, and where its output up to there went.
+fn interrupted(label: &str, dir: &Path, step: u64, time_s: f64) -> anyhow::Error {
+    anyhow::anyhow!(
+        "{label}: stopped on request at step {step}, t = {time_s:e} s; its output up to there is in {}",
+        dir.display()
+    )
+}
+
 /// A model run: the scene, its label in progress and messages, the folder of its full output
 /// and when that output is written.
 #[derive(Debug, Clone, Copy)]
@@ -94,7 +143,7 @@ pub fn run_fem(job: Job<fem::Scene>, rep: &dyn Reporter) -> Result<Finished<fem:
     } = job;
     let mut progress = rep.run_started(label);
     let start = Instant::now();
-    let result = fem::run_with_progress(scene, &mut *progress);
+    let result = fem::run_with_progress(scene, &mut *progress, rep.stop());
     let wall_s = start.elapsed().as_secs_f64();
     let (out, failure) = match result {
         Ok(out) => (out, None),
@@ -104,6 +153,14 @@ pub fn run_fem(job: Job<fem::Scene>, rep: &dyn Reporter) -> Result<Finished<fem:
             location,
             partial,
         }) => (*partial, Some(unstable(label, dir, step, time_s, &location))),
+        Err(fem::RunError::Interrupted {
+            step,
+            time_s,
+            partial,
+        }) => {
+            fem::write_csv(&partial, dir).with_context(|| format!("{label}: writing {}", dir.display()))?;
+            return Err(interrupted(label, dir, step, time_s));
+        }
         Err(e) => return Err(e).context(label.to_string()),
     };
     if keep.writes(failure.is_some()) {
@@ -136,7 +193,7 @@ pub fn run_spectral(job: Job<spectral::Scene>, rep: &dyn Reporter) -> Result<Fin
     } = job;
     let mut progress = rep.run_started(label);
     let start = Instant::now();
-    let result = spectral::run_with_progress(scene, &mut *progress);
+    let result = spectral::run_with_progress(scene, &mut *progress, rep.stop());
     let wall_s = start.elapsed().as_secs_f64();
     let (out, failure) = match result {
         Ok(out) => (out, None),
@@ -146,6 +203,15 @@ pub fn run_spectral(job: Job<spectral::Scene>, rep: &dyn Reporter) -> Result<Fin
             location,
             partial,
         }) => (*partial, Some(unstable(label, dir, step, time_s, &location))),
+        Err(spectral::RunError::Interrupted {
+            step,
+            time_s,
+            partial,
+        }) => {
+            spectral::write_csv(&partial, dir)
+                .with_context(|| format!("{label}: writing {}", dir.display()))?;
+            return Err(interrupted(label, dir, step, time_s));
+        }
         Err(e) => return Err(e).context(label.to_string()),
     };
     if keep.writes(failure.is_some()) {

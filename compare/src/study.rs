@@ -3,7 +3,8 @@
 //! derived from these typed values (`fem::Scene::with_friction_coeff`, ...), never by rewriting
 //! the TOML text, so errors quote the user's own lines.
 
-use anyhow::{Context, Result, anyhow};
+use anyhow::{Context, Result, anyhow, bail};
+use preflight::Problem;
 use serde::Deserialize;
 use std::path::Path;
 
@@ -35,9 +36,9 @@ impl ModelName {
     }
 }
 
-/// The `[compare]` section: what the harness's jobs run. Unknown keys are refused.
+/// The `[compare]` section: what the harness's jobs run. Unknown keys are refused (with the
+/// other problems of the file).
 #[derive(Debug, Clone, Default, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct CompareSection {
     /// Friction coefficients the FE-versus-spectral gate runs [-].
     pub friction_coeffs: Option<Vec<f64>>,
@@ -91,6 +92,8 @@ pub struct Study {
     pub spectral: Option<spectral::Scene>,
     /// The `[compare]` section (all keys absent when the file has none).
     pub compare: CompareSection,
+    /// The most one run may cost (command-line flags; 8 GiB and 10⁸ steps by default).
+    pub budget: preflight::Budget,
 }
 
 impl Study {
@@ -103,21 +106,59 @@ impl Study {
         Study::from_toml_str(&text, &stem).with_context(|| format!("scene {}", path.display()))
     }
 
-    /// Parses scene `text`; `stem` names the default output folder.
+    /// Parses scene `text`; `stem` names the default output folder. Every part the harness will
+    /// run is validated here, before any work: the FE scene, the spectral scene (if the file has
+    /// `[spectral]`), every `[compare]` key, and every friction value listed for both models. All
+    /// problems are reported at once, each with its key and its line in `text`; a key both models
+    /// read is reported once.
     pub fn from_toml_str(text: &str, stem: &str) -> Result<Study> {
-        let fem = fem::Scene::from_toml_str(text).context("FE model")?;
-        let harness: HarnessPart = toml::from_str(text).context("[compare]")?;
-        let spectral = harness
-            .spectral
-            .map(|_| spectral::Scene::from_toml_str(text))
-            .transpose()
-            .context("spectral model")?;
-        Ok(Study {
-            stem: stem.to_string(),
-            fem,
-            spectral,
-            compare: harness.compare.unwrap_or_default(),
-        })
+        let mut problems: Vec<Problem> = Vec::new();
+        let fem = match fem::Scene::from_toml_str(text) {
+            Ok(s) => Some(s),
+            Err(fem::SceneError::Parse(m)) => bail!("scene does not parse: {m}"),
+            Err(e) => {
+                problems.extend(e.problems());
+                None
+            }
+        };
+        let (harness, unknown) =
+            preflight::parse::<HarnessPart>(text).map_err(|m| anyhow!("[compare] does not parse: {m}"))?;
+        // the harness reads only [compare]: keys it does not know elsewhere belong to the models
+        problems.extend(preflight::unknown_keys(
+            unknown
+                .into_iter()
+                .filter(|k| k.starts_with("compare."))
+                .collect(),
+        ));
+        let spectral = match harness.spectral.map(|_| spectral::Scene::from_toml_str(text)) {
+            None => None,
+            Some(Ok(s)) => Some(s),
+            Some(Err(e)) => {
+                for p in e.problems() {
+                    if !problems.iter().any(|q| q.key == p.key) {
+                        problems.push(p);
+                    }
+                }
+                None
+            }
+        };
+        let compare = harness.compare.unwrap_or_default();
+        if let Some(fem) = &fem {
+            problems.extend(compare_problems(&compare, fem, spectral.as_ref()));
+        }
+        match (fem, problems.is_empty()) {
+            (Some(fem), true) => Ok(Study {
+                stem: stem.to_string(),
+                fem,
+                spectral,
+                compare,
+                budget: preflight::Budget::default(),
+            }),
+            _ => {
+                preflight::locate(text, &mut problems);
+                Err(anyhow!(preflight::problems_text(&problems)))
+            }
+        }
     }
 
     /// The same study at nominal element size h [m]: the FE model at h = a/round(a/h) (the
@@ -165,64 +206,88 @@ impl Study {
         }
     }
 
-    /// `[compare].friction_coeffs` [-]: a non-empty list of distinct values the FE model
-    /// accepts (each friction variant is validated here, before any run).
+    /// `[compare].friction_coeffs` [-] (validated for both models when the study was read).
     pub fn friction_coeffs(&self) -> Result<Vec<f64>> {
-        let mus =
-            self.compare.friction_coeffs.clone().ok_or_else(|| {
-                anyhow!("compare.friction_coeffs: missing; expected a list such as [0, 0.3]")
-            })?;
-        if mus.is_empty() {
-            return Err(anyhow!(
-                "compare.friction_coeffs = []: give at least one friction coefficient"
-            ));
-        }
-        for (k, mu) in mus.iter().enumerate() {
-            if mus[..k].contains(mu) {
-                return Err(anyhow!(
-                    "compare.friction_coeffs: {mu} is listed twice (each run writes its own folder)"
-                ));
-            }
-            self.fem
-                .with_friction_coeff(*mu)
-                .with_context(|| format!("compare.friction_coeffs = {mus:?}"))?;
-        }
-        Ok(mus)
+        self.compare
+            .friction_coeffs
+            .clone()
+            .ok_or_else(|| anyhow!("compare.friction_coeffs: missing; expected a list such as [0, 0.3]"))
     }
 
-    /// `[compare].models`: a non-empty list without repeats.
+    /// `[compare].models` (validated when the study was read).
     pub fn models(&self) -> Result<Vec<ModelName>> {
-        let models = self.compare.models.clone().ok_or_else(|| {
+        self.compare.models.clone().ok_or_else(|| {
             anyhow!("compare.models: missing; expected a list such as [\"standard\", \"hybrid\"]")
-        })?;
+        })
+    }
+
+    /// `[compare].snapshot_t_over_T` [-], in (0, 1] (validated when the study was read).
+    pub fn snapshot_t_over_t(&self) -> Result<f64> {
+        self.compare
+            .snapshot_t_over_t
+            .ok_or_else(|| anyhow!("compare.snapshot_t_over_T: missing; expected a number in (0, 1]"))
+    }
+}
+
+/// The problems of the `[compare]` keys present: friction values each model accepts, listed once;
+/// models listed once; a snapshot time inside the run.
+fn compare_problems(
+    c: &CompareSection,
+    fem: &fem::Scene,
+    spectral: Option<&spectral::Scene>,
+) -> Vec<Problem> {
+    let mut problems = Vec::new();
+    if let Some(mus) = &c.friction_coeffs {
+        let key = "compare.friction_coeffs";
+        if mus.is_empty() {
+            problems.push(Problem::new(
+                key,
+                format!("{key} = []: give at least one friction coefficient"),
+            ));
+        }
+        for (k, &mu) in mus.iter().enumerate() {
+            if mus[..k].contains(&mu) {
+                problems.push(Problem::new(
+                    key,
+                    format!("{key}: {mu} is listed twice (each run writes its own folder)"),
+                ));
+                continue;
+            }
+            let fem_error = fem.with_friction_coeff(mu).err().map(|e| e.to_string());
+            let spectral_error = spectral
+                .and_then(|s| s.with_friction_coeff(mu).err())
+                .map(|e| e.to_string());
+            if let Some(e) = fem_error.or(spectral_error) {
+                problems.push(Problem::new(key, format!("{key}: {mu} is refused: {e}")));
+            }
+        }
+    }
+    if let Some(models) = &c.models {
+        let key = "compare.models";
         if models.is_empty() {
-            return Err(anyhow!("compare.models = []: give at least one model"));
+            problems.push(Problem::new(key, format!("{key} = []: give at least one model")));
         }
         for (k, m) in models.iter().enumerate() {
             if models[..k].contains(m) {
-                return Err(anyhow!(
-                    "compare.models: \"{}\" is listed twice (each run writes its own folder)",
-                    m.tag()
+                problems.push(Problem::new(
+                    key,
+                    format!(
+                        "{key}: \"{}\" is listed twice (each run writes its own folder)",
+                        m.tag()
+                    ),
                 ));
             }
         }
-        Ok(models)
     }
-
-    /// `[compare].snapshot_t_over_T` [-], in (0, 1].
-    pub fn snapshot_t_over_t(&self) -> Result<f64> {
-        let t = self
-            .compare
-            .snapshot_t_over_t
-            .ok_or_else(|| anyhow!("compare.snapshot_t_over_T: missing; expected a number in (0, 1]"))?;
-        if t > 0.0 && t <= 1.0 {
-            Ok(t)
-        } else {
-            Err(anyhow!(
-                "compare.snapshot_t_over_T = {t} out of range; allowed (0, 1]"
-            ))
-        }
+    if let Some(t) = c.snapshot_t_over_t
+        && !(t > 0.0 && t <= 1.0)
+    {
+        problems.push(Problem::new(
+            "compare.snapshot_t_over_T",
+            format!("compare.snapshot_t_over_T = {t} out of range; allowed (0, 1]"),
+        ));
     }
+    problems
 }
 
 /// FE element size [m] for a nominal one: a/round(a/h), so the pre-crack tips stay on nodes
@@ -283,20 +348,14 @@ mod tests {
             "{e}"
         );
         let dup = base.replace("friction_coeffs = [0.0, 0.3]", "friction_coeffs = [0.3, 0.3]");
-        let e = Study::from_toml_str(&dup, "x")
-            .unwrap()
-            .friction_coeffs()
-            .unwrap_err();
+        let e = Study::from_toml_str(&dup, "x").unwrap_err();
         assert!(e.to_string().contains("twice"), "{e}");
         let big = base.replace("friction_coeffs = [0.0, 0.3]", "friction_coeffs = [0.0, 100.0]");
-        let e = format!(
-            "{:#}",
-            Study::from_toml_str(&big, "x")
-                .unwrap()
-                .friction_coeffs()
-                .unwrap_err()
+        let e = format!("{:#}", Study::from_toml_str(&big, "x").unwrap_err());
+        assert!(
+            e.contains("compare.friction_coeffs: 100") && e.contains("[0, 10]"),
+            "{e}"
         );
-        assert!(e.contains("friction.friction_coeff = 100"), "{e}");
         let s = text("sinusoidal-interface").replace("\"hybrid\"]", "\"hybird\"]");
         let e = format!("{:#}", Study::from_toml_str(&s, "x").unwrap_err());
         assert!(e.contains("hybird"), "{e}");

@@ -3,6 +3,9 @@
 use crate::output::RunOutput;
 use thiserror::Error;
 
+pub use preflight::Problem;
+use preflight::problems_text;
+
 /// A scene that cannot be parsed or holds a value outside its allowed range.
 #[derive(Debug, Error)]
 pub enum SceneError {
@@ -13,7 +16,7 @@ pub enum SceneError {
     #[error("{field} = {value} out of range; allowed {allowed}")]
     OutOfRange {
         /// Dotted scene key, e.g. `fem.element_size`.
-        field: &'static str,
+        field: String,
         /// The offending value.
         value: f64,
         /// Human-readable allowed range.
@@ -23,7 +26,7 @@ pub enum SceneError {
     #[error("{field} = \"{value}\" is not allowed; allowed {allowed}")]
     BadOption {
         /// Dotted scene key.
-        field: &'static str,
+        field: String,
         /// The offending value.
         value: String,
         /// The allowed values.
@@ -39,9 +42,41 @@ pub enum SceneError {
         /// Stable limit [s].
         limit_s: f64,
     },
-    /// The mesh does not fit the geometry (domain not a multiple of h, crack tip not on a node, ...).
-    #[error("mesh does not fit the geometry: {0}")]
-    Geometry(String),
+    /// Keys that do not fit together (domain not a multiple of h, crack tip not on a node, two
+    /// keys given where one is allowed, ...); `key` is the one to change.
+    #[error("{key}: {message}")]
+    Inconsistent {
+        /// Dotted scene key, e.g. `fem.element_size`.
+        key: String,
+        /// What does not fit.
+        message: String,
+    },
+    /// Every problem of a scene file, each with its key and the line of the user's file.
+    #[error("{}", problems_text(problems))]
+    Invalid {
+        /// The problems, in the order of the file's sections.
+        problems: Vec<Problem>,
+    },
+}
+
+impl SceneError {
+    /// The dotted key the error is about (`None` for a file that does not parse).
+    pub fn key(&self) -> Option<&str> {
+        match self {
+            SceneError::Parse(_) | SceneError::Invalid { .. } => None,
+            SceneError::OutOfRange { field, .. } | SceneError::BadOption { field, .. } => Some(field),
+            SceneError::UnstableTimeStep { .. } => Some("fem.time_step"),
+            SceneError::Inconsistent { key, .. } => Some(key),
+        }
+    }
+
+    /// The problems this error stands for (one, or the list of `Invalid`).
+    pub fn problems(&self) -> Vec<Problem> {
+        match self {
+            SceneError::Invalid { problems } => problems.clone(),
+            e => vec![Problem::new(e.key().unwrap_or(""), e.to_string())],
+        }
+    }
 }
 
 /// The model cannot be built from a valid scene (degenerate element, ...).
@@ -76,6 +111,16 @@ pub enum RunError {
         /// Where: node id, position and velocity.
         location: String,
         /// Output recorded up to the failure.
+        partial: Box<RunOutput>,
+    },
+    /// Stopped on request (Ctrl-C, SIGTERM) before T. `partial` holds what was computed so far.
+    #[error("run stopped on request at step {step}, t = {time_s} s")]
+    Interrupted {
+        /// Last step computed.
+        step: u64,
+        /// Its time [s].
+        time_s: f64,
+        /// Output recorded up to there: the samples taken before the stop.
         partial: Box<RunOutput>,
     },
 }

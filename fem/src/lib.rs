@@ -31,4 +31,5 @@ pub use output::{
 };
 pub use scene::Scene;
 pub use solver::central_difference::step;
+pub use solver::estimate::estimate;
 pub use solver::run::{run, run_with_progress};

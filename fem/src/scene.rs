@@ -16,12 +16,13 @@ pub use diagnostics::Diagnostics;
 pub use fem::{FemSpec, InsertionRule, ModelKind};
 pub use interface_spec::{ContactFriction, ContactSurface, InterfaceZone};
 pub(crate) use interface_spec::{in_range, zone_of};
+pub use preflight::line_of;
 pub use problem::{Crack, Loading, Ramp};
 
 use crate::error::SceneError;
 use crate::law::cohesive::LinearCohesive;
 use crate::law::elastic::{PlaneStrain, WaveSpeeds};
-use checks::check;
+use checks::{check, keep};
 use raw::{RawRamp, RawScene};
 
 /// A validated scene.
@@ -49,10 +50,20 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// Parses and validates; errors name the field, the value and the allowed range.
+    /// Parses and validates. A file that does not parse (syntax, a value of the wrong type) gives
+    /// that one error with its line; otherwise every problem found is reported at once, unknown
+    /// keys included, each naming the key as written, its line in `text`, the value and what is
+    /// allowed (`SceneError::Invalid`).
     pub fn from_toml_str(text: &str) -> Result<Scene, SceneError> {
-        let raw: RawScene = toml::from_str(text).map_err(|e| SceneError::Parse(e.to_string()))?;
-        validate(raw)
+        let (raw, unknown) = preflight::parse::<RawScene>(text).map_err(SceneError::Parse)?;
+        let mut problems = preflight::unknown_keys(unknown);
+        match validate(raw) {
+            Ok(scene) if problems.is_empty() => return Ok(scene),
+            Ok(_) => {}
+            Err(e) => problems.extend(e.problems()),
+        }
+        preflight::locate(text, &mut problems);
+        Err(SceneError::Invalid { problems })
     }
 
     /// The same scene with another edit of its raw form, validated again.
@@ -151,12 +162,24 @@ impl Scene {
     }
 }
 
-fn ramp(field: &'static str, r: Option<RawRamp>) -> Result<Ramp, SceneError> {
+/// A ramp of `[loading]`; `field` is its key (`loading.normal`). A ramp that would start after
+/// the run ends is refused: its load would never act.
+fn ramp(field: &str, r: Option<RawRamp>, duration: f64) -> Result<Ramp, SceneError> {
     let Some(r) = r else { return Ok(Ramp::ZERO) };
-    check(field, r.initial, true, "a finite number")?;
-    check(field, r.final_, true, "a finite number")?;
-    check(field, r.ramp_start, r.ramp_start >= 0.0, ">= 0 s")?;
-    check(field, r.ramp_end, r.ramp_end >= r.ramp_start, ">= ramp_start")?;
+    check(format!("{field}.initial"), r.initial, true, "a finite number")?;
+    check(format!("{field}.final"), r.final_, true, "a finite number")?;
+    check(
+        format!("{field}.ramp_start"),
+        r.ramp_start,
+        r.ramp_start >= 0.0 && r.ramp_start < duration,
+        "[0, loading.duration) s: a ramp starting at or after T never acts",
+    )?;
+    check(
+        format!("{field}.ramp_end"),
+        r.ramp_end,
+        r.ramp_end >= r.ramp_start,
+        ">= ramp_start",
+    )?;
     Ok(Ramp {
         initial: r.initial,
         final_value: r.final_,
@@ -204,45 +227,68 @@ fn crack(c: &raw::RawCrack) -> Result<Crack, SceneError> {
     })
 }
 
+/// Validates every section, collecting the problems of each (one invalid key does not hide the
+/// next); returns them all as `SceneError::Invalid`, or the single one alone.
 fn validate(raw: RawScene) -> Result<Scene, SceneError> {
     let kept = raw.clone();
-    let material = material(&raw.material)?;
-    let interface = raw.interface.as_ref().map(interface).transpose()?;
-    let crack = raw.crack.as_ref().map(crack).transpose()?;
+    let mut errors = Vec::new();
+    let material = keep(&mut errors, material(&raw.material));
+    let interface = keep(&mut errors, raw.interface.as_ref().map(interface).transpose());
+    let crack = keep(&mut errors, raw.crack.as_ref().map(crack).transpose());
     let friction_coeff = raw.friction.as_ref().map_or(0.0, |f| f.friction_coeff);
-    check(
-        "friction.friction_coeff",
-        friction_coeff,
-        (0.0..=10.0).contains(&friction_coeff),
-        "[0, 10]",
-    )?;
+    keep(
+        &mut errors,
+        check(
+            "friction.friction_coeff",
+            friction_coeff,
+            (0.0..=10.0).contains(&friction_coeff),
+            "[0, 10]",
+        ),
+    );
     let l = &raw.loading;
-    check("loading.duration", l.duration, l.duration > 0.0, "> 0 s")?;
-    let loading = Loading {
-        duration: l.duration,
-        normal: ramp("loading.normal", l.normal)?,
-        shear: ramp("loading.shear", l.shear)?,
+    let duration = keep(
+        &mut errors,
+        check("loading.duration", l.duration, l.duration > 0.0, "> 0 s"),
+    );
+    // the ramps and [fem] are checked against T; without a valid T, against no limit
+    let t_end = duration.unwrap_or(f64::INFINITY);
+    let normal = keep(&mut errors, ramp("loading.normal", l.normal, t_end));
+    let shear = keep(&mut errors, ramp("loading.shear", l.shear, t_end));
+    // a crack that failed its own checks is not used to check the mesh against it
+    let crack_for_fem = match (&raw.crack, &crack) {
+        (Some(_), None) => None,
+        (_, c) => Some(c.as_ref().and_then(|c| c.as_ref())),
     };
-    let fem = fem::validate_fem(&raw.fem, crack.as_ref(), loading.duration)?;
+    let fem = crack_for_fem.and_then(|c| fem::validate_fem(&raw.fem, c, t_end, &mut errors));
+    let (Some(material), Some(interface), Some(crack), Some(normal), Some(shear), Some(fem), Some(duration)) =
+        (material, interface, crack, normal, shear, fem, duration)
+    else {
+        return Err(collected(errors));
+    };
     let mut scene = Scene {
         name: raw.name.unwrap_or_else(|| "unnamed".to_string()),
         material,
         interface,
         crack,
         friction_coeff,
-        loading,
+        loading: Loading {
+            duration,
+            normal,
+            shear,
+        },
         fem,
         time_step: 0.0,
         raw: kept,
     };
     if !scene.fem.interface_zones.is_empty() && scene.interface.is_none() {
-        return Err(SceneError::Geometry(
-            "fem.interface_zones needs an [interface] section (the law outside the zones)".to_string(),
+        errors.push(checks::inconsistent(
+            "fem.interface_zones",
+            "needs an [interface] section (the law outside the zones)",
         ));
     }
     if scene.has_penalty() && scene.fem.eps_n <= 0.0 {
-        return Err(SceneError::OutOfRange {
-            field: "fem.eps_n",
+        errors.push(SceneError::OutOfRange {
+            field: "fem.eps_n".to_string(),
             value: scene.fem.eps_n,
             allowed: "> 0 Pa/m when contact or the standard penalty is active".to_string(),
         });
@@ -250,15 +296,31 @@ fn validate(raw: RawScene) -> Result<Scene, SceneError> {
     let limit = scene.stable_limit();
     scene.time_step = match scene.fem.requested_time_step {
         Some(dt) if dt > limit => {
-            return Err(SceneError::UnstableTimeStep {
+            errors.push(SceneError::UnstableTimeStep {
                 dt_s: dt,
                 limit_s: limit,
             });
+            dt
         }
         Some(dt) => dt,
         None => limit * scene.fem.time_step_safety / fem::MAX_SAFETY,
     };
-    Ok(scene)
+    if errors.is_empty() {
+        Ok(scene)
+    } else {
+        Err(collected(errors))
+    }
+}
+
+/// One error as it is; several as `Invalid`, in the order found (lines are added by
+/// [`Scene::from_toml_str`], which has the text).
+fn collected(mut errors: Vec<SceneError>) -> SceneError {
+    if errors.len() == 1 {
+        return errors.pop().expect("invariant: one error");
+    }
+    SceneError::Invalid {
+        problems: errors.iter().flat_map(SceneError::problems).collect(),
+    }
 }
 
 #[cfg(test)]
@@ -301,11 +363,14 @@ mod tests {
         let e = Scene::from_toml_str(&text).unwrap_err().to_string();
         assert!(e.contains("material.poisson_ratio") && e.contains("0.6"), "{e}");
         let text = center_crack().replace("time_step_safety = 0.5", "time_step = 1e-5");
-        let e = Scene::from_toml_str(&text).unwrap_err();
-        assert!(matches!(e, SceneError::UnstableTimeStep { .. }), "{e}");
+        let e = Scene::from_toml_str(&text).unwrap_err().to_string();
+        assert!(e.contains("fem.time_step") && e.contains("stable limit"), "{e}");
         let text = center_crack().replace("element_size = 1e-3", "element_size = 0.7e-3");
         let e = Scene::from_toml_str(&text).unwrap_err().to_string();
-        assert!(e.contains("geometry"), "{e}");
+        assert!(
+            e.contains("fem.element_size") && e.contains("not a multiple"),
+            "{e}"
+        );
         let text = center_crack().replace("half_length = 0.125", "half_length = 0.1255");
         let e = Scene::from_toml_str(&text).unwrap_err().to_string();
         assert!(e.contains("crack tip"), "{e}");
@@ -350,5 +415,54 @@ mod tests {
             standard.with_model(ModelKind::Hybrid).unwrap().fem.model,
             ModelKind::Hybrid
         );
+    }
+
+    #[test]
+    fn every_problem_is_reported_at_once_with_its_line() {
+        let good = center_crack();
+        let line = |needle: &str| good.lines().position(|l| l.starts_with(needle)).unwrap() + 1;
+        let text = good
+            .replace("poisson_ratio = 0.35", "poisson_ratio = 0.6")
+            .replace(
+                "element_size = 1e-3",
+                "element_sise = 1e-3\nelement_size = 0.7e-3",
+            )
+            .replace(
+                "ramp_start = 0.0, ramp_end = 0.002 }",
+                "ramp_start = 0.5, ramp_end = 0.6 }",
+            )
+            .replace(
+                "time_step_safety = 0.5",
+                "time_step_safety = 0.5\ntime_step = 1e-6",
+            );
+        let e = Scene::from_toml_str(&text).unwrap_err();
+        let SceneError::Invalid { problems } = &e else {
+            panic!("expected every problem: {e}");
+        };
+        let keys: Vec<&str> = problems.iter().map(|p| p.key.as_str()).collect();
+        for key in [
+            "material.poisson_ratio",
+            "loading.normal.ramp_start",
+            "fem.element_sise",
+            "fem.element_size",
+            "fem.time_step",
+        ] {
+            assert!(keys.contains(&key), "{key} missing from {keys:?}");
+        }
+        let p = problems
+            .iter()
+            .find(|p| p.key == "material.poisson_ratio")
+            .unwrap();
+        assert_eq!(p.line, Some(line("poisson_ratio")), "{e}");
+        let p = problems.iter().find(|p| p.key == "fem.element_sise").unwrap();
+        assert_eq!(
+            p.line,
+            Some(line("element_size")),
+            "the unknown key on the user's line: {e}"
+        );
+        assert!(e.to_string().contains("unknown key fem.element_sise"), "{e}");
+        // in the order of the file
+        let lines: Vec<usize> = problems.iter().filter_map(|p| p.line).collect();
+        assert!(lines.windows(2).all(|w| w[0] <= w[1]), "{lines:?}");
     }
 }

@@ -134,7 +134,7 @@ impl HalfSpaces {
                 }
             }
             Convolution::Fast => {
-                let fit = SoeFit::fit(&kernels, p.kernel_cutoff, p.fast_tolerance)?;
+                let fit = SoeFit::shared(&kernels, p.kernel_cutoff, p.fast_tolerance)?;
                 stats.history_entries = 0;
                 stats.exp_terms = fit.terms() as u64;
                 stats.fit_error = fit.max_error;

@@ -1,42 +1,90 @@
-//! Typed errors of the spectral solver (thiserror); each names the field, the value and the
-//! allowed range.
+//! Typed errors of the spectral solver (thiserror); each names the scene key, the value and what
+//! is allowed.
 
 use crate::output::RunOutput;
+pub use preflight::Problem;
 
-/// A scene that cannot be parsed or is out of range.
+/// A scene that cannot be parsed or holds values outside their allowed ranges.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
-    /// The TOML text does not parse or has unknown/missing keys.
-    #[error("scene TOML: {0}")]
-    Toml(#[from] toml::de::Error),
+    /// The TOML text does not parse or a value has the wrong type (the message has the line).
+    #[error("scene does not parse: {0}")]
+    Parse(String),
     /// A value outside its allowed range.
     #[error("{field} = {value} out of range; allowed {allowed}")]
     OutOfRange {
         /// Dotted key of the offending field.
-        field: &'static str,
+        field: String,
         /// The value given.
         value: f64,
         /// The allowed range, in words.
-        allowed: &'static str,
+        allowed: String,
     },
-    /// Mutually exclusive or jointly required keys.
-    #[error("{0}")]
-    Inconsistent(String),
+    /// Keys that do not fit together; `key` is the one to change.
+    #[error("{key}: {message}")]
+    Inconsistent {
+        /// Dotted scene key.
+        key: String,
+        /// What does not fit.
+        message: String,
+    },
+    /// Every problem of a scene, each with its key and the line of the user's file.
+    #[error("{}", preflight::problems_text(problems))]
+    Invalid {
+        /// The problems, in the order of the file.
+        problems: Vec<Problem>,
+    },
+}
+
+impl SceneError {
+    /// The dotted key the error is about (`None` for a file that does not parse or a list).
+    pub fn key(&self) -> Option<&str> {
+        match self {
+            SceneError::Parse(_) | SceneError::Invalid { .. } => None,
+            SceneError::OutOfRange { field, .. } => Some(field),
+            SceneError::Inconsistent { key, .. } => Some(key),
+        }
+    }
+
+    /// The problems this error stands for (one, or the list of `Invalid`).
+    pub fn problems(&self) -> Vec<Problem> {
+        match self {
+            SceneError::Invalid { problems } => problems.clone(),
+            e => vec![Problem::new(e.key().unwrap_or(""), e.to_string())],
+        }
+    }
 }
 
 /// A failure while building the model from a valid scene.
 #[derive(Debug, thiserror::Error)]
 pub enum BuildError {
-    /// The sum-of-exponentials fit of a kernel did not reach the requested accuracy.
-    #[error("fast convolution: fit of {kernel} reached max error {achieved:e} > requested {requested:e}")]
+    /// The sum-of-exponentials fit of the kernels did not reach the requested accuracy.
+    #[error(
+        "spectral.fast_tolerance = {requested:e}: the sum-of-exponentials fit of the kernels \
+         ({kernel}) {} on [0, spectral.kernel_cutoff] for material.poisson_ratio = \
+         {poisson_ratio}; raise spectral.fast_tolerance, raise spectral.kernel_cutoff, or use \
+         spectral.convolution = \"direct\"",
+        reached(*.achieved)
+    )]
     FitFailed {
-        /// Kernel name (H11, H22, K12).
+        /// Kernel names (H11, H22, K12).
         kernel: &'static str,
         /// Achieved max error on [0, kernel_cutoff] [-].
         achieved: f64,
         /// Requested tolerance [-].
         requested: f64,
+        /// Poisson ratio of the kernels [-].
+        poisson_ratio: f64,
     },
+}
+
+/// What the best fit reached, in words.
+fn reached(achieved: f64) -> String {
+    if achieved.is_finite() {
+        format!("reaches only {achieved:.3e}")
+    } else {
+        "cannot be computed (too few kernel samples)".to_string()
+    }
 }
 
 /// A failure during the time loop.
@@ -54,6 +102,16 @@ pub enum RunError {
         time_s: f64,
         /// Where: grid point index and x [m].
         location: String,
+        /// Output computed so far.
+        partial: Box<RunOutput>,
+    },
+    /// Stopped on request (Ctrl-C, SIGTERM) before T; `partial` holds everything recorded so far.
+    #[error("run stopped on request at step {step} (t = {time_s:e} s)")]
+    Interrupted {
+        /// Last step computed.
+        step: u64,
+        /// Its time [s].
+        time_s: f64,
         /// Output computed so far.
         partial: Box<RunOutput>,
     },

@@ -12,6 +12,7 @@ mod convolution;
 mod diag;
 pub mod elastodynamics;
 mod error;
+mod estimate;
 mod fast;
 mod history;
 pub mod kernels;
@@ -23,14 +24,20 @@ mod scene;
 mod soe;
 mod solver;
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 pub use elastodynamics::{ConvolutionStats, FaceFields, HalfSpaceParams, HalfSpaces};
 pub use error::{BuildError, RunError, SceneError};
+pub use estimate::estimate;
 pub use output::{ContactMeanRecord, FieldRecord, RunOutput, RunStats, TipRecord, write_csv};
-pub use scene::{Convolution, DEFAULT_FAST_TOLERANCE, Nucleation, Ramp, Scene, WaveSpeeds, rayleigh_ratio};
+pub use scene::{
+    Convolution, DEFAULT_FAST_TOLERANCE, InitialInterface, Nucleation, Ramp, Scene, WaveSpeeds,
+    rayleigh_ratio,
+};
 
 /// Runs the scene from t = 0 to T = `[loading].duration`.
 pub fn run(scene: &Scene) -> Result<RunOutput, RunError> {
-    run_with_progress(scene, &mut |_, _| {})
+    run_with_progress(scene, &mut |_, _| {}, &AtomicBool::new(false))
 }
 
 /// Number of sample times k·interval ≤ duration (+1 for t = 0).
@@ -38,8 +45,14 @@ fn samples(duration: f64, interval: f64) -> usize {
     (duration / interval).floor() as usize + 2
 }
 
-/// As [`run`]; `progress(steps_done, total_steps)` is called at most ~200 times.
-pub fn run_with_progress(scene: &Scene, progress: &mut dyn FnMut(u64, u64)) -> Result<RunOutput, RunError> {
+/// As [`run`]; `progress(steps_done, total_steps)` is called at most ~200 times, and the run stops
+/// after the step during which `stop` is raised (e.g. by Ctrl-C) with `RunError::Interrupted` and
+/// everything recorded so far.
+pub fn run_with_progress(
+    scene: &Scene,
+    progress: &mut dyn FnMut(u64, u64),
+    stop: &AtomicBool,
+) -> Result<RunOutput, RunError> {
     let (model, mut st, mut ws) = solver::build(scene)?;
     let last = scene.last_step();
     let total = last + 1;
@@ -73,8 +86,11 @@ pub fn run_with_progress(scene: &Scene, progress: &mut dyn FnMut(u64, u64)) -> R
         let failed = rayon::scope(|_| {
             for n in first..end {
                 let t = n as f64 * dt;
+                if stop.load(Ordering::Relaxed) {
+                    return Some((n, t, None));
+                }
                 if let Some(m) = solver::step(&model, &mut st, &mut ws, n) {
-                    return Some((n, t, m));
+                    return Some((n, t, Some(m)));
                 }
                 out.stats.steps = n + 1;
                 out.tips.push(diag::tips(&model, &st, t));
@@ -94,7 +110,14 @@ pub fn run_with_progress(scene: &Scene, progress: &mut dyn FnMut(u64, u64)) -> R
             }
             None
         });
-        if let Some((n, t, m)) = failed {
+        if let Some((n, t, None)) = failed {
+            return Err(RunError::Interrupted {
+                step: n.saturating_sub(1),
+                time_s: (t - dt).max(0.0),
+                partial: Box::new(out),
+            });
+        }
+        if let Some((n, t, Some(m))) = failed {
             return Err(RunError::Unstable {
                 step: n,
                 time_s: t,

@@ -1,5 +1,6 @@
-//! Scene: serde `RawScene` (unknown keys refused) → `validate()` → typed [`Scene`]. No physics here
-//! beyond the derived plane-strain constants.
+//! Scene: serde `RawScene` (unknown keys collected) → `validate()` → typed [`Scene`]. Every
+//! problem of a file is reported at once, each with its key and line. No physics here beyond the
+//! derived plane-strain constants.
 
 use serde::Deserialize;
 
@@ -26,9 +27,18 @@ pub enum Convolution {
     Fast,
 }
 
+/// Which interface points are broken at t = 0 (`spectral.initial_interface`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum InitialInterface {
+    /// The pre-crack |x − center_x| < a is broken, the rest cohesive (the default).
+    PreCrack,
+    /// Every point is broken: a frictional or free fault with no cohesion, the set-up that
+    /// verifies radiation damping exactly (docs/spectral-model.md §7.3).
+    Broken,
+}
+
 /// Linear ramp through S(s) = s³(10 − 15 s + 6 s²), paper eq. (B.1).
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct Ramp {
     /// Value before the ramp [Pa].
     pub initial: f64,
@@ -42,7 +52,6 @@ pub struct Ramp {
 
 /// Optional shear-load perturbation for nucleation: a cos² bump added to s_xy, constant in time.
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct Nucleation {
     /// Peak added shear stress [Pa].
     pub shear: f64,
@@ -53,7 +62,6 @@ pub struct Nucleation {
 }
 
 #[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
 struct RawScene {
     #[allow(dead_code)]
     name: Option<String>,
@@ -70,7 +78,6 @@ struct RawScene {
 }
 
 #[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
 struct RawMaterial {
     youngs_modulus: f64,
     poisson_ratio: f64,
@@ -78,7 +85,6 @@ struct RawMaterial {
 }
 
 #[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
 struct RawInterface {
     sigma_c: f64,
     delta_c: f64,
@@ -87,20 +93,17 @@ struct RawInterface {
 }
 
 #[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
 struct RawCrack {
     half_length: f64,
     center_x: f64,
 }
 
 #[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
 struct RawFriction {
     friction_coeff: f64,
 }
 
 #[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
 struct RawLoading {
     duration: f64,
     normal: Ramp,
@@ -108,7 +111,6 @@ struct RawLoading {
 }
 
 #[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
 struct RawSpectral {
     length: f64,
     grid_points: i64,
@@ -122,6 +124,7 @@ struct RawSpectral {
     fast_tolerance: Option<f64>,
     contact: Option<bool>,
     nucleation: Option<Nucleation>,
+    initial_interface: Option<String>,
 }
 
 /// Default relative accuracy of the sum-of-exponentials kernel fit (docs/spectral-model.md §4.3) [-].
@@ -178,35 +181,27 @@ pub struct Scene {
     pub contact: bool,
     /// Optional nucleation perturbation of s_xy.
     pub nucleation: Option<Nucleation>,
+    /// Which points are broken at t = 0.
+    pub initial_interface: InitialInterface,
     /// The form the scene was read from: a variant ([`Scene::with_friction_coeff`], ...) edits
     /// it and validates it again, so a variant is checked exactly like a file.
     raw: RawScene,
 }
 
-fn check(field: &'static str, value: f64, ok: bool, allowed: &'static str) -> Result<(), SceneError> {
-    if ok && value.is_finite() {
-        Ok(())
-    } else {
-        Err(SceneError::OutOfRange {
-            field,
-            value,
-            allowed,
-        })
-    }
-}
-
-fn check_ramp(prefix: &'static [&'static str; 4], r: &Ramp) -> Result<(), SceneError> {
-    check(prefix[0], r.initial, true, "a finite stress")?;
-    check(prefix[1], r.r#final, true, "a finite stress")?;
-    check(prefix[2], r.ramp_start, r.ramp_start >= 0.0, ">= 0")?;
-    check(prefix[3], r.ramp_end, r.ramp_end >= r.ramp_start, ">= ramp_start")
-}
-
 impl Scene {
-    /// Parses and validates; errors name the field, the value and the allowed range.
+    /// Parses and validates. A file that does not parse gives that one error with its line;
+    /// otherwise every problem found is reported at once (`SceneError::Invalid`), unknown keys
+    /// included, each naming the key as written, its line in `text` and what is allowed.
     pub fn from_toml_str(text: &str) -> Result<Scene, SceneError> {
-        let raw: RawScene = toml::from_str(text)?;
-        validate(raw)
+        let (raw, unknown) = preflight::parse::<RawScene>(text).map_err(SceneError::Parse)?;
+        let mut problems = preflight::unknown_keys(unknown);
+        match validate(raw) {
+            Ok(scene) if problems.is_empty() => return Ok(scene),
+            Ok(_) => {}
+            Err(e) => problems.extend(e.problems()),
+        }
+        preflight::locate(text, &mut problems);
+        Err(SceneError::Invalid { problems })
     }
 
     /// The same scene with another edit of its raw form, validated again.
@@ -282,6 +277,39 @@ impl Scene {
         self.center_x
     }
 
+    /// Process-zone size l_p = E G_c/σ_c², G_c = σ_c δ_c/2 [m].
+    pub fn process_zone(&self) -> f64 {
+        process_zone(self.youngs_modulus, self.sigma_c, self.delta_c)
+    }
+
+    /// What a valid scene does that its user should know before running it: a grid that
+    /// resolves the process zone with fewer than 4 points, a crack whose periodic images are
+    /// near (a periodic length below 20a).
+    pub fn warnings(&self) -> Vec<String> {
+        let mut w = Vec::new();
+        let per_zone = self.process_zone() / self.grid_spacing();
+        if per_zone < WARN_POINTS_PER_ZONE {
+            w.push(format!(
+                "spectral.grid_points = {}: {per_zone:.2} points per process zone l_p = {:e} m                  (at least {WARN_POINTS_PER_ZONE} advised); tip positions and speeds are coarse",
+                self.grid_points,
+                self.process_zone()
+            ));
+        }
+        let a = self.half_length;
+        if self.initial_interface == InitialInterface::PreCrack
+            && a > 0.0
+            && self.length < WARN_LENGTH_OVER_A * a
+        {
+            w.push(format!(
+                "spectral.length = {} m = {:.1}a: the crack's periodic images are {:.1}a away and                  load its tips (the centre-crack case uses 30a)",
+                self.length,
+                self.length / a,
+                (self.length - 2.0 * a) / a
+            ));
+        }
+        w
+    }
+
     /// Index of the last step: records at t_n = n Δt for n = 0..=last_step, t_n ≤ T.
     pub fn last_step(&self) -> u64 {
         (self.duration / self.time_step() * (1.0 + 1e-12)).floor() as u64
@@ -299,132 +327,249 @@ pub fn rayleigh_ratio(eta: f64) -> f64 {
     0.5 * (lo + hi)
 }
 
+/// Collects every problem of a scene instead of stopping at the first.
+#[derive(Default)]
+struct Problems(Vec<SceneError>);
+
+impl Problems {
+    /// `value` if finite and `ok`; otherwise records an out-of-range error for `key`.
+    fn num(&mut self, key: &str, value: f64, ok: bool, allowed: &str) -> Option<f64> {
+        if ok && value.is_finite() {
+            Some(value)
+        } else {
+            self.0.push(SceneError::OutOfRange {
+                field: key.to_string(),
+                value,
+                allowed: allowed.to_string(),
+            });
+            None
+        }
+    }
+
+    /// Records that `key` does not fit with the rest of the scene.
+    fn inconsistent(&mut self, key: &str, message: String) {
+        self.0.push(SceneError::Inconsistent {
+            key: key.to_string(),
+            message,
+        });
+    }
+
+    fn ramp(&mut self, key: &str, r: &Ramp, duration: f64) {
+        self.num(&format!("{key}.initial"), r.initial, true, "a finite stress [Pa]");
+        self.num(&format!("{key}.final"), r.r#final, true, "a finite stress [Pa]");
+        self.num(
+            &format!("{key}.ramp_start"),
+            r.ramp_start,
+            r.ramp_start >= 0.0 && r.ramp_start < duration,
+            "[0, loading.duration) s: a ramp starting at or after T never acts",
+        );
+        self.num(
+            &format!("{key}.ramp_end"),
+            r.ramp_end,
+            r.ramp_end >= r.ramp_start,
+            ">= ramp_start [s]",
+        );
+    }
+}
+
+/// Grid points per process zone below which a run is refused (the zone falls between points).
+const MIN_POINTS_PER_ZONE: f64 = 1.0;
+/// Grid points per process zone below which a run is warned about.
+const WARN_POINTS_PER_ZONE: f64 = 4.0;
+/// Periodic length over half-length below which the crack's periodic images are warned about
+/// (the centre-crack case uses 30).
+const WARN_LENGTH_OVER_A: f64 = 20.0;
+
 fn validate(r: RawScene) -> Result<Scene, SceneError> {
     let raw = r.clone();
+    let mut p = Problems::default();
     let m = &r.material;
-    check(
+    let youngs = p.num(
         "material.youngs_modulus",
         m.youngs_modulus,
         m.youngs_modulus > 0.0,
-        "> 0",
-    )?;
-    check(
+        "> 0 Pa",
+    );
+    let nu = p.num(
         "material.poisson_ratio",
         m.poisson_ratio,
         m.poisson_ratio > 0.0 && m.poisson_ratio < 0.5,
-        "(0, 0.5)",
-    )?;
-    check("material.density", m.density, m.density > 0.0, "> 0")?;
+        "(0, 0.5) (the kernels of the spectral model need ν > 0)",
+    );
+    let density = p.num("material.density", m.density, m.density > 0.0, "> 0 kg/m^3");
     let i = &r.interface;
-    check("interface.sigma_c", i.sigma_c, i.sigma_c > 0.0, "> 0")?;
-    check("interface.delta_c", i.delta_c, i.delta_c > 0.0, "> 0")?;
-    check("interface.beta", i.beta, i.beta > 0.0, "> 0")?;
-    check("interface.kappa", i.kappa, i.kappa > 0.0, "> 0")?;
-    check(
+    let sigma_c = p.num("interface.sigma_c", i.sigma_c, i.sigma_c > 0.0, "> 0 Pa");
+    let delta_c = p.num("interface.delta_c", i.delta_c, i.delta_c > 0.0, "> 0 m");
+    p.num("interface.beta", i.beta, i.beta > 0.0, "> 0");
+    p.num("interface.kappa", i.kappa, i.kappa > 0.0, "> 0");
+    let a = p.num(
         "crack.half_length",
         r.crack.half_length,
         r.crack.half_length >= 0.0,
-        ">= 0",
-    )?;
-    check("crack.center_x", r.crack.center_x, true, "finite")?;
+        ">= 0 m",
+    );
+    p.num("crack.center_x", r.crack.center_x, true, "a finite position [m]");
     let mu_f = r.friction.friction_coeff;
-    check("friction.friction_coeff", mu_f, mu_f >= 0.0, ">= 0")?;
+    p.num(
+        "friction.friction_coeff",
+        mu_f,
+        (0.0..=10.0).contains(&mu_f),
+        "[0, 10]",
+    );
     let l = &r.loading;
-    check("loading.duration", l.duration, l.duration > 0.0, "> 0")?;
-    check_ramp(
-        &[
-            "loading.normal.initial",
-            "loading.normal.final",
-            "loading.normal.ramp_start",
-            "loading.normal.ramp_end",
-        ],
-        &l.normal,
-    )?;
-    check_ramp(
-        &[
-            "loading.shear.initial",
-            "loading.shear.final",
-            "loading.shear.ramp_start",
-            "loading.shear.ramp_end",
-        ],
-        &l.shear,
-    )?;
+    let duration = p.num("loading.duration", l.duration, l.duration > 0.0, "> 0 s");
+    let t_end = duration.unwrap_or(f64::INFINITY);
+    p.ramp("loading.normal", &l.normal, t_end);
+    p.ramp("loading.shear", &l.shear, t_end);
     let s = &r.spectral;
-    check("spectral.length", s.length, s.length > 0.0, "> 0")?;
+    let length = p.num("spectral.length", s.length, s.length > 0.0, "> 0 m");
     let n = s.grid_points;
-    check(
+    let grid = p.num(
         "spectral.grid_points",
         n as f64,
         (4..=(1 << 24)).contains(&n) && n % 2 == 0,
         "an even integer in [4, 2^24]",
-    )?;
-    let dx = s.length / n as f64;
-    let shear_modulus = m.youngs_modulus / (2.0 * (1.0 + m.poisson_ratio));
-    let cs = (shear_modulus / m.density).sqrt();
+    );
+    // c_s from the material, Δx from the grid: both needed by the step and the geometry checks
+    let cs = match (youngs, nu, density) {
+        (Some(e), Some(nu), Some(rho)) => Some((e / (2.0 * (1.0 + nu)) / rho).sqrt()),
+        _ => None,
+    };
+    let dx = length.zip(grid).map(|(x, n)| x / n);
     let cfl = match (s.cs_dt_over_dx, s.time_step) {
-        (Some(b), None) => {
-            check(
-                "spectral.cs_dt_over_dx",
-                b,
-                b > 0.0 && b <= 0.5,
-                "(0, 0.5] (docs/spectral-model.md §7.8)",
-            )?;
-            b
-        }
-        (None, Some(dt)) => {
-            let b = dt * cs / dx;
-            check(
+        (Some(b), None) => p.num(
+            "spectral.cs_dt_over_dx",
+            b,
+            b > 0.0 && b <= 0.5,
+            "(0, 0.5] (docs/spectral-model.md §7.8)",
+        ),
+        (None, Some(dt)) => match cs.zip(dx) {
+            Some((cs, dx)) => {
+                let b = dt * cs / dx;
+                p.num(
+                    "spectral.time_step",
+                    dt,
+                    b > 0.0 && b <= 0.5,
+                    &format!(
+                        "(0, {:e}] s, i.e. c_s dt/dx in (0, 0.5] (docs/spectral-model.md §7.8)",
+                        0.5 * dx / cs
+                    ),
+                )
+                .map(|_| b)
+            }
+            None => None,
+        },
+        (Some(_), Some(_)) => {
+            p.inconsistent(
                 "spectral.time_step",
-                dt,
-                b > 0.0 && b <= 0.5,
-                "(0, 0.5 dx/c_s] i.e. c_s dt/dx in (0, 0.5] (docs/spectral-model.md §7.8)",
-            )?;
-            b
+                "give cs_dt_over_dx [-] or time_step [s], not both".to_string(),
+            );
+            None
         }
-        _ => {
-            return Err(SceneError::Inconsistent(
-                "[spectral] needs exactly one of cs_dt_over_dx [-] or time_step [s]".into(),
-            ));
+        (None, None) => {
+            p.inconsistent(
+                "spectral",
+                "needs one of cs_dt_over_dx [-] or time_step [s]".to_string(),
+            );
+            None
         }
     };
-    check(
+    p.num(
         "spectral.kernel_cutoff",
         s.kernel_cutoff,
         s.kernel_cutoff > 0.0 && s.kernel_cutoff <= 1000.0,
         "(0, 1000]",
-    )?;
-    check(
+    );
+    p.num(
         "spectral.t_star",
         s.t_star,
         s.t_star >= 0.0,
-        ">= 0 (0: plain Coulomb)",
-    )?;
-    check(
+        ">= 0 s (0: plain Coulomb)",
+    );
+    p.num(
         "spectral.output_interval",
         s.output_interval,
-        s.output_interval > 0.0,
-        "> 0",
-    )?;
+        s.output_interval > 0.0 && s.output_interval <= t_end,
+        "(0, loading.duration] s",
+    );
     if let Some(fi) = s.field_output_interval {
-        check("spectral.field_output_interval", fi, fi > 0.0, "> 0")?;
+        p.num(
+            "spectral.field_output_interval",
+            fi,
+            fi > 0.0 && fi <= t_end,
+            "(0, loading.duration] s",
+        );
     }
     let fast_tolerance = s.fast_tolerance.unwrap_or(DEFAULT_FAST_TOLERANCE);
-    check(
+    p.num(
         "spectral.fast_tolerance",
         fast_tolerance,
         (1e-10..=1e-2).contains(&fast_tolerance),
         "[1e-10, 1e-2]",
-    )?;
-    if let Some(nu) = &s.nucleation {
-        check("spectral.nucleation.shear", nu.shear, true, "finite")?;
-        check("spectral.nucleation.center", nu.center, true, "finite")?;
-        check(
+    );
+    let initial_interface = match s.initial_interface.as_deref() {
+        None | Some("pre_crack") => InitialInterface::PreCrack,
+        Some("broken") => InitialInterface::Broken,
+        Some(other) => {
+            p.inconsistent(
+                "spectral.initial_interface",
+                format!("\"{other}\" is not allowed; allowed \"pre_crack\" (default) or \"broken\""),
+            );
+            InitialInterface::PreCrack
+        }
+    };
+    if let (Some(x), Some(a), InitialInterface::PreCrack) = (length, a, initial_interface)
+        && 4.0 * a >= x
+    {
+        p.inconsistent(
+            "spectral.length",
+            format!(
+                "{x} m is at most twice the crack length 2a = {} m: the crack's periodic images                  would be closer than its own length; use a length of at least 4a (the                  centre-crack case uses 30a = {} m)",
+                2.0 * a,
+                30.0 * a
+            ),
+        );
+    }
+    if let (Some(nu), Some(x)) = (&s.nucleation, length) {
+        p.num(
+            "spectral.nucleation.shear",
+            nu.shear,
+            true,
+            "a finite stress [Pa]",
+        );
+        let hw = p.num(
             "spectral.nucleation.half_width",
             nu.half_width,
             nu.half_width > 0.0,
-            "> 0",
-        )?;
+            "> 0 m",
+        );
+        let centre = r.crack.center_x;
+        p.num(
+            "spectral.nucleation.center",
+            nu.center,
+            (nu.center - centre).abs() + hw.unwrap_or(0.0) <= 0.5 * x,
+            &format!(
+                "within the periodic length: |center − crack.center_x| + half_width <= {} m",
+                0.5 * x
+            ),
+        );
     }
+    if let (Some(e), Some(sc), Some(dc), Some(dx)) = (youngs, sigma_c, delta_c, dx) {
+        let lp = process_zone(e, sc, dc);
+        if lp / dx < MIN_POINTS_PER_ZONE {
+            p.inconsistent(
+                "spectral.grid_points",
+                format!(
+                    "{n} points give dx = {dx:e} m, larger than the process zone l_p = E δ_c/(2σ_c)                      = {lp:e} m: the cohesive zone falls between grid points; use at least {} points                      (l_p/dx >= {WARN_POINTS_PER_ZONE} is advised)",
+                    (WARN_POINTS_PER_ZONE * s.length / lp).ceil()
+                ),
+            );
+        }
+    }
+    let errors = p.0;
+    let (Some(cfl), true) = (cfl, errors.is_empty()) else {
+        return Err(collected(errors));
+    };
     Ok(Scene {
         youngs_modulus: m.youngs_modulus,
         poisson_ratio: m.poisson_ratio,
@@ -450,8 +595,24 @@ fn validate(r: RawScene) -> Result<Scene, SceneError> {
         fast_tolerance,
         contact: s.contact.unwrap_or(true),
         nucleation: s.nucleation,
+        initial_interface,
         raw,
     })
+}
+
+/// Process-zone size l_p = E G_c/σ_c² with G_c = σ_c δ_c/2 [m] (the scale the grid must resolve).
+fn process_zone(youngs_modulus: f64, sigma_c: f64, delta_c: f64) -> f64 {
+    youngs_modulus * delta_c / (2.0 * sigma_c)
+}
+
+/// One error as it is; several as `Invalid` (lines are added by [`Scene::from_toml_str`]).
+fn collected(mut errors: Vec<SceneError>) -> SceneError {
+    if errors.len() == 1 {
+        return errors.pop().expect("invariant: one error");
+    }
+    SceneError::Invalid {
+        problems: errors.iter().flat_map(SceneError::problems).collect(),
+    }
 }
 
 #[cfg(test)]

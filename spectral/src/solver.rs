@@ -11,7 +11,7 @@ use crate::law::cohesive::{self, CohesiveParams, Strength};
 use crate::law::contact::{self, NormalBranch, NormalInput};
 use crate::law::friction;
 use crate::loading;
-use crate::scene::Scene;
+use crate::scene::{InitialInterface, Scene};
 
 /// Immutable model: grid, law parameters, loads.
 pub(crate) struct Model {
@@ -69,7 +69,10 @@ pub(crate) fn build(scene: &Scene) -> Result<(Model, State, Workspace), BuildErr
         .collect();
     let on_precrack: Vec<bool> = x
         .iter()
-        .map(|&x| (x - scene.center_x).abs() < scene.half_length)
+        .map(|&x| match scene.initial_interface {
+            InitialInterface::PreCrack => (x - scene.center_x).abs() < scene.half_length,
+            InitialInterface::Broken => true,
+        })
         .collect();
     let cohesive = CohesiveParams::from_paper(scene.sigma_c, scene.delta_c, scene.beta, scene.kappa);
     let points = on_precrack

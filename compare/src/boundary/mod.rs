@@ -10,7 +10,7 @@ pub mod rows;
 
 use crate::gate::metrics::{CaseScales, PAPER_RESOLUTION, Verdict, per_mu};
 use crate::output::write_rows;
-use crate::runner::{Job, Keep, Reporter, fem_tips, run_fem, run_spectral, spectral_tips};
+use crate::runner::{Job, Keep, Reporter, fem_tips, preflight, run_fem, run_spectral, spectral_tips};
 use crate::series::Series;
 use crate::study::Study;
 use anyhow::{Context, Result};
@@ -72,7 +72,27 @@ pub fn run_study(study: &Study, boxes: &[u32], dir: &Path, rep: &dyn Reporter) -
         }
         plans.push((mu, spectral, fems));
     }
-    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let labels: Vec<(String, Vec<String>)> = plans
+        .iter()
+        .map(|(mu, _, fems)| {
+            let boxes = fems
+                .iter()
+                .map(|(k, f, _)| format!("FE box {k} {f:?} μ = {mu}"))
+                .collect();
+            (format!("spectral μ = {mu}"), boxes)
+        })
+        .collect();
+    let spectrals: Vec<(&str, &spectral::Scene)> = labels
+        .iter()
+        .zip(&plans)
+        .map(|((l, _), (_, s, _))| (l.as_str(), s))
+        .collect();
+    let fems: Vec<(&str, &fem::Scene)> = labels
+        .iter()
+        .zip(&plans)
+        .flat_map(|((_, ls), (_, _, fems))| ls.iter().zip(fems).map(|(l, (_, _, s))| (l.as_str(), s)))
+        .collect();
+    preflight(study, &fems, &spectrals, dir)?;
     let case = study.case();
     let scales = CaseScales {
         half_length: case.half_length,

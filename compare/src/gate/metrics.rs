@@ -60,7 +60,7 @@ pub struct CaseScales {
     pub shift: f64,
 }
 
-/// One row of `metrics.csv`: `metric,mu,value,tolerance,pass`.
+/// One row of `metrics.csv`: `metric,mu,value,tolerance,pass,note`.
 #[derive(Debug, Clone, Serialize)]
 pub struct Verdict {
     /// Metric name.
@@ -73,6 +73,8 @@ pub struct Verdict {
     pub tolerance: String,
     /// Whether the value meets the tolerance.
     pub pass: bool,
+    /// Why the value is NaN (e.g. "spectral tip never reached 1.9a"); empty when measured.
+    pub note: String,
 }
 
 fn at_most(metric: &'static str, mu: String, value: f64, limit: f64) -> Verdict {
@@ -82,6 +84,39 @@ fn at_most(metric: &'static str, mu: String, value: f64, limit: f64) -> Verdict 
         value,
         tolerance: format!("<= {limit}"),
         pass: value <= limit,
+        note: String::new(),
+    }
+}
+
+/// What a history lacks for a metric: no onset (the crack never grew 0.05a), or, when the metric
+/// needs the propagation (`to_1_9a`), a tip that never reached 1.9a. `None` if it has both.
+pub fn lacks(model: &str, half_length: &Series, a: f64, to_1_9a: bool) -> Option<String> {
+    if onset(half_length, a).is_none() {
+        Some(format!("{model} crack never grew 0.05a (no onset)"))
+    } else if to_1_9a && half_length.first_crossing(1.9 * a).is_none() {
+        Some(format!("{model} tip never reached 1.9a"))
+    } else {
+        None
+    }
+}
+
+/// The reasons of both models, joined (empty when both histories have what the metric needs).
+fn reasons(fem: &Series, spec: &Series, a: f64, to_1_9a: bool) -> String {
+    [lacks("FE", fem, a, to_1_9a), lacks("spectral", spec, a, to_1_9a)]
+        .into_iter()
+        .flatten()
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+impl Verdict {
+    /// The verdict with the reason why its value is NaN, if it is.
+    fn noted(self, why: impl FnOnce() -> String) -> Verdict {
+        if self.value.is_nan() {
+            Verdict { note: why(), ..self }
+        } else {
+            self
+        }
     }
 }
 
@@ -120,14 +155,17 @@ pub fn per_mu(mu: f64, fem: &Series, spec: &Series, scales: &CaseScales, tol: &T
             mu.to_string(),
             onset_diff,
             tol.onset_over_t,
-        ),
-        at_most("tip_position_rms_over_a", mu.to_string(), rms, tol.rms_over_a),
+        )
+        .noted(|| reasons(fem, spec, a, false)),
+        at_most("tip_position_rms_over_a", mu.to_string(), rms, tol.rms_over_a)
+            .noted(|| reasons(fem, spec, a, true)),
         at_most(
             "mean_speed_relative_difference",
             mu.to_string(),
             speed,
             tol.speed_rel,
-        ),
+        )
+        .noted(|| reasons(fem, spec, a, true)),
     ]
 }
 
@@ -148,6 +186,18 @@ pub fn friction_delay(
         _ => (f64::NAN, f64::NAN),
     };
     let product = df * ds / (scales.duration * scales.duration);
+    let why = || {
+        [
+            lacks(&format!("FE μ = {mu_ref}"), fem.0, a, false),
+            lacks(&format!("FE μ = {mu}"), fem.1, a, false),
+            lacks(&format!("spectral μ = {mu_ref}"), spec.0, a, false),
+            lacks(&format!("spectral μ = {mu}"), spec.1, a, false),
+        ]
+        .into_iter()
+        .flatten()
+        .collect::<Vec<_>>()
+        .join("; ")
+    };
     vec![
         Verdict {
             metric: "friction_delay_sign_product_over_T2",
@@ -155,13 +205,16 @@ pub fn friction_delay(
             value: product,
             tolerance: "> 0".to_string(),
             pass: product > 0.0,
-        },
+            note: String::new(),
+        }
+        .noted(why),
         at_most(
             "friction_delay_difference_over_T",
             label,
             (df - ds).abs() / scales.duration,
             tol.delay_over_t,
-        ),
+        )
+        .noted(why),
     ]
 }
 
@@ -248,5 +301,21 @@ mod tests {
         let spec = crack(0.012, 130.0, 0.125);
         let v = per_mu(0.0, &fem, &spec, &SCALES, &PAPER_RESOLUTION);
         assert!(v.iter().all(|v| !v.pass && v.value.is_nan()));
+        assert!(
+            v.iter().all(|v| v.note == "FE crack never grew 0.05a (no onset)"),
+            "{v:?}"
+        );
+        // a crack that starts but stops short of 1.9a: the onset is measured, the rest is not
+        let short = Series {
+            y: crack(0.012, 130.0, 0.125)
+                .y
+                .iter()
+                .map(|&y| y.min(1.5 * 0.125))
+                .collect(),
+            ..crack(0.012, 130.0, 0.125)
+        };
+        let v = per_mu(0.0, &short, &spec, &SCALES, &PAPER_RESOLUTION);
+        assert!(v[0].value.is_finite() && v[0].note.is_empty(), "{v:?}");
+        assert_eq!(v[2].note, "FE tip never reached 1.9a");
     }
 }

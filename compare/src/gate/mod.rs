@@ -9,7 +9,7 @@ pub mod figures;
 pub mod metrics;
 
 use crate::output::{mu_tag, write_rows, write_tips};
-use crate::runner::{Job, Keep, Reporter, fem_tips, run_fem, run_spectral, spectral_tips};
+use crate::runner::{Job, Keep, Reporter, fem_tips, preflight, run_fem, run_spectral, spectral_tips};
 use crate::study::{Case, Study};
 use anyhow::{Context, Result};
 use metrics::{MuRuns, Tolerances, Verdict, verdicts};
@@ -75,7 +75,18 @@ fn plan(study: &Study) -> Result<Vec<MuPlan>> {
 /// partial output kept.
 pub fn run_gate(study: &Study, tol: &Tolerances, dir: &Path, rep: &dyn Reporter) -> Result<GateReport> {
     let plans = plan(study)?;
-    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let labels: Vec<String> = plans.iter().map(|p| format!("μ = {}", p.mu)).collect();
+    let fems: Vec<(&str, &fem::Scene)> = labels
+        .iter()
+        .zip(&plans)
+        .map(|(l, p)| (l.as_str(), &p.fem))
+        .collect();
+    let spectrals: Vec<(&str, &spectral::Scene)> = labels
+        .iter()
+        .zip(&plans)
+        .map(|(l, p)| (l.as_str(), &p.spectral))
+        .collect();
+    preflight(study, &fems, &spectrals, dir)?;
     let case = study.case();
     let mu_detail = plans.iter().map(|p| p.mu).fold(f64::MIN, f64::max);
     let (mut runs, mut files, mut detail, mut warnings) = (Vec::new(), Vec::new(), None, Vec::new());

@@ -8,7 +8,7 @@ pub mod rows;
 pub mod windows;
 
 use crate::output::write_rows;
-use crate::runner::{Job, Keep, Reporter, run_fem};
+use crate::runner::{Job, Keep, Reporter, preflight, run_fem};
 use crate::study::Study;
 use anyhow::{Context, Result};
 use figures::{Expected, penalty_figures};
@@ -56,7 +56,13 @@ pub fn plan(study: &Study, factors: &[u32]) -> Result<Vec<(u32, fem::Scene)>> {
 /// `dir`. A run that goes unstable stops the study with its output kept in `dir/fem_eps<f>/`.
 pub fn run_study(study: &Study, factors: &[u32], dir: &Path, rep: &dyn Reporter) -> Result<PenaltyReport> {
     let plans = plan(study, factors)?;
-    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let labels: Vec<String> = plans.iter().map(|(f, _)| format!("ε_n = {f} E/m")).collect();
+    let fems: Vec<(&str, &fem::Scene)> = labels
+        .iter()
+        .zip(&plans)
+        .map(|(l, (_, s))| (l.as_str(), s))
+        .collect();
+    preflight(study, &fems, &[], dir)?;
     let (mut faces, mut means, mut summaries, mut warnings) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for (factor, scene) in &plans {

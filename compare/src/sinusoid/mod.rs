@@ -10,7 +10,7 @@ pub mod setup;
 pub mod snapshot;
 
 use crate::output::write_rows;
-use crate::runner::{Job, Keep, Reporter, run_fem};
+use crate::runner::{Job, Keep, Reporter, preflight, run_fem};
 use crate::study::Study;
 use anyhow::{Context, Result};
 use metrics::SinusoidSummary;
@@ -49,7 +49,8 @@ pub fn run_study(study: &Study, dir: &Path, rep: &dyn Reporter) -> Result<Sinuso
             Ok((m.tag(), scene))
         })
         .collect::<Result<Vec<_>>>()?;
-    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let fems: Vec<(&str, &fem::Scene)> = scenes.iter().map(|(l, s)| (*l, s)).collect();
+    preflight(study, &fems, &[], dir)?;
     let (mut runs, mut warnings) = (Vec::new(), Vec::new());
     for (model, scene) in &scenes {
         let sub = dir.join(model);

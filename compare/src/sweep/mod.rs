@@ -5,7 +5,7 @@
 //! edges stay on nodes (4 mm → a/31 = 4.03 mm). Spectral: the power-of-two N nearest to X/h
 //! (N = 1024 … 8192 for X = 30a), at the FE time step of the same point.
 
-use crate::runner::{Job, Keep, Silent, fem_tips, run_fem, run_spectral, spectral_tips};
+use crate::runner::{Job, Keep, Reporter, fem_tips, run_fem, run_spectral, spectral_tips};
 use crate::series::{Series, mean_speed, onset};
 use crate::study::Study;
 use anyhow::{Context, Result, anyhow};
@@ -36,7 +36,7 @@ impl Model {
 
 /// One measured point, a row of `sweep.csv`; the error columns are NaN until [`with_errors`]
 /// fills them.
-#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Point {
     /// Model.
     pub model: Model,
@@ -58,6 +58,8 @@ pub struct Point {
     pub onset_error_over_t: f64,
     /// |v − v_finest| / v_finest [-].
     pub speed_error_rel: f64,
+    /// Why the onset or the speed is NaN (e.g. "tip never reached 1.9a"); empty when measured.
+    pub note: String,
 }
 
 fn peak_memory_bytes() -> f64 {
@@ -88,11 +90,45 @@ pub fn plan(study: &Study) -> Result<Vec<(Model, f64, Study)>> {
     Ok(out)
 }
 
+/// Every point of `plan` against the study's budget, and the output folder claimed, before the
+/// first child starts.
+pub fn preflight(study: &Study, plan: &[(Model, f64, Study)], dir: &std::path::Path) -> Result<()> {
+    let labels: Vec<String> = plan
+        .iter()
+        .map(|(m, h, _)| format!("sweep {} h = {h} m", m.tag()))
+        .collect();
+    let spectral_scenes = plan
+        .iter()
+        .filter(|(m, _, _)| *m == Model::Spectral)
+        .map(|(_, _, p)| Ok(p.spectral()?.with_time_step(p.fem.time_step())?))
+        .collect::<Result<Vec<_>>>()?;
+    let fems: Vec<(&str, &fem::Scene)> = labels
+        .iter()
+        .zip(plan)
+        .filter(|(_, (m, _, _))| *m == Model::Fem)
+        .map(|(l, (_, _, p))| (l.as_str(), &p.fem))
+        .collect();
+    let spectrals: Vec<(&str, &spectral::Scene)> = labels
+        .iter()
+        .zip(plan)
+        .filter(|(_, (m, _, _))| *m == Model::Spectral)
+        .map(|(l, _)| l.as_str())
+        .zip(&spectral_scenes)
+        .collect();
+    crate::runner::preflight(study, &fems, &spectrals, dir)
+}
+
 /// Runs one point in this process (the child side of the sweep) at the scene's own friction
 /// coefficient and writes its tip history to `<dir>/tips_<model>_<nominal h in mm>mm.csv`
 /// (header `t,tip_right,tip_left,cz_tip_right,cz_tip_left`). A run that goes unstable keeps its
 /// full output in `<dir>/<model>_<h>mm/` and fails the point.
-pub fn run_point(study: &Study, model: Model, nominal: f64, dir: &std::path::Path) -> Result<Point> {
+pub fn run_point(
+    study: &Study,
+    model: Model,
+    nominal: f64,
+    dir: &std::path::Path,
+    rep: &dyn Reporter,
+) -> Result<Point> {
     let point = study.at_resolution(nominal)?;
     let case = point.case();
     let dt = point.fem.time_step();
@@ -106,7 +142,7 @@ pub fn run_point(study: &Study, model: Model, nominal: f64, dir: &std::path::Pat
                 dir: &sub,
                 keep: Keep::OnFailure,
             };
-            let f = run_fem(job, &Silent)?;
+            let f = run_fem(job, rep)?;
             f.warnings.iter().for_each(|w| eprintln!("warning: {w}"));
             let wall = f.wall_s;
             (fem_tips(&f.completed()?), point.fem.fem.element_size, wall)
@@ -119,7 +155,7 @@ pub fn run_point(study: &Study, model: Model, nominal: f64, dir: &std::path::Pat
                 dir: &sub,
                 keep: Keep::OnFailure,
             };
-            let f = run_spectral(job, &Silent)?;
+            let f = run_spectral(job, rep)?;
             let wall = f.wall_s;
             (spectral_tips(&f.completed()?), scene.grid_spacing(), wall)
         }
@@ -136,6 +172,7 @@ pub fn run_point(study: &Study, model: Model, nominal: f64, dir: &std::path::Pat
         peak_memory_bytes: peak_memory_bytes(),
         onset: onset(&l, case.half_length).unwrap_or(f64::NAN),
         mean_speed: mean_speed(&l, case.half_length).unwrap_or(f64::NAN),
+        note: crate::gate::metrics::lacks(model.tag(), &l, case.half_length, true).unwrap_or_default(),
         onset_error_over_t: f64::NAN,
         speed_error_rel: f64::NAN,
     })
@@ -154,7 +191,12 @@ pub fn with_errors(points: &[Point], duration: f64) -> Vec<Point> {
             Point {
                 onset_error_over_t: (p.onset - finest.onset).abs() / duration,
                 speed_error_rel: (p.mean_speed - finest.mean_speed).abs() / finest.mean_speed,
-                ..*p
+                note: if p.note.is_empty() && !finest.note.is_empty() {
+                    format!("errors against the finest point, whose {}", finest.note)
+                } else {
+                    p.note.clone()
+                },
+                ..p.clone()
             }
         })
         .collect()
@@ -166,6 +208,7 @@ pub fn run_children(
     exe: &std::path::Path,
     scene: &std::path::Path,
     dir: &std::path::Path,
+    budget: preflight::Budget,
     on_point: &mut dyn FnMut(&Point),
 ) -> Result<Vec<Point>> {
     let mut points = Vec::new();
@@ -177,6 +220,10 @@ pub fn run_children(
                 .arg(scene)
                 .arg("--out")
                 .arg(dir)
+                .arg("--max-memory")
+                .arg((budget.max_bytes as f64 / (1u64 << 30) as f64).to_string())
+                .arg("--max-steps")
+                .arg(budget.max_steps.to_string())
                 .stderr(std::process::Stdio::inherit())
                 .output()
                 .with_context(|| format!("starting {}", exe.display()))?;
@@ -266,6 +313,7 @@ mod tests {
             mean_speed,
             onset_error_over_t: f64::NAN,
             speed_error_rel: f64::NAN,
+            note: String::new(),
         };
         let rows = with_errors(
             &[
@@ -279,6 +327,16 @@ mod tests {
         assert!((rows[0].speed_error_rel - 0.04).abs() < 1e-12);
         assert_eq!(rows[1].onset_error_over_t, 0.0);
         assert_eq!(rows[2].speed_error_rel, 0.0);
+        // a finest point that never ran gives NaN errors, each with the reason
+        let mut stalled = p(Model::Fem, 0.5e-3, f64::NAN, f64::NAN);
+        stalled.note = "fem tip never reached 1.9a".into();
+        let rows = with_errors(&[p(Model::Fem, 1e-3, 0.011, 125.0), stalled], 0.02);
+        assert!(rows[0].onset_error_over_t.is_nan());
+        assert!(
+            rows[0].note.contains("finest point") && rows[0].note.contains("1.9a"),
+            "{}",
+            rows[0].note
+        );
     }
 
     #[test]
@@ -294,6 +352,7 @@ mod tests {
             mean_speed: 120.0 + onset,
             onset_error_over_t: f64::NAN,
             speed_error_rel: f64::NAN,
+            note: String::new(),
         };
         let pts = [
             p(Model::Fem, 2e-3, 0.012),

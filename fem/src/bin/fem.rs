@@ -1,21 +1,30 @@
-//! Thin command line: `fem SCENE.toml [--out DIR]` runs the scene and writes the CSV records.
+//! Thin command line: `fem SCENE.toml [--out DIR]` checks everything first (the scene, the
+//! budgets, the output folder), then runs the scene and writes the CSV records.
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result, anyhow, bail};
 use clap::Parser;
 use indicatif::{ProgressBar, ProgressStyle};
+use preflight::budget::{DEFAULT_MAX_BYTES, DEFAULT_MAX_STEPS};
 use std::path::PathBuf;
 
 /// Runs one scene with the hybrid (or standard) cohesive-contact FE model and writes its records
 /// as CSV (tips, interface, faces, contact, energy, arrivals, probes and the diagnostics the
-/// scene declares). A run that goes unstable keeps what it computed and exits non-zero.
+/// scene declares). A run that goes unstable, or is stopped with Ctrl-C, keeps what it computed
+/// and exits non-zero.
 #[derive(Debug, Parser)]
 #[command(name = "fem", version)]
 struct Cli {
-    /// Scene file (TOML; see fem/README.md for every key).
+    /// Scene file (TOML; see docs/scenes.md for every key).
     scene: PathBuf,
-    /// Output folder (default: out/<scene name>/).
+    /// Output folder (default: out/fem-<scene file name>/).
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
+    /// Memory budget [GiB]: a run estimated above it is refused before it starts.
+    #[arg(long, value_name = "GIB", default_value_t = (DEFAULT_MAX_BYTES >> 30) as f64)]
+    max_memory: f64,
+    /// Time-step budget: a run needing more steps is refused before it starts.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_STEPS)]
+    max_steps: u64,
 }
 
 fn main() -> Result<()> {
@@ -23,17 +32,39 @@ fn main() -> Result<()> {
     let text =
         std::fs::read_to_string(&cli.scene).with_context(|| format!("reading {}", cli.scene.display()))?;
     let scene = fem::Scene::from_toml_str(&text).with_context(|| format!("scene {}", cli.scene.display()))?;
-    let out_dir = cli.out.unwrap_or_else(|| PathBuf::from("out").join(&scene.name));
-    let bar = ProgressBar::new(1);
+    let out_dir = match &cli.out {
+        Some(dir) => preflight::paths::explicit(dir)
+            .map_err(|e| anyhow!(e))?
+            .to_path_buf(),
+        None => PathBuf::from("out").join(format!("fem-{}", stem(&cli.scene))),
+    };
+    let estimate = fem::estimate(&scene);
+    preflight::Budget::new(cli.max_memory, cli.max_steps)
+        .check(&estimate)
+        .map_err(|e| anyhow!("scene {}: {e}", cli.scene.display()))?;
+    preflight::paths::claim(&out_dir, "fem").map_err(|e| anyhow!(e))?;
+    let stop = preflight::stop::on_signal().map_err(|e| anyhow!(e))?;
+    println!(
+        "{}: {} (dt = {:.4e} s); output in {}",
+        cli.scene.display(),
+        estimate.summary(),
+        scene.time_step(),
+        out_dir.display()
+    );
+    let bar = ProgressBar::new(estimate.steps);
     bar.set_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} steps {elapsed_precise} eta {eta}")
             .context("progress style")?,
     );
     let started = std::time::Instant::now();
-    let result = fem::run_with_progress(&scene, &mut |done, total| {
-        bar.set_length(total);
-        bar.set_position(done);
-    });
+    let result = fem::run_with_progress(
+        &scene,
+        &mut |done, total| {
+            bar.set_length(total);
+            bar.set_position(done);
+        },
+        stop,
+    );
     bar.finish();
     let (output, failure) = match result {
         Ok(o) => (o, None),
@@ -45,6 +76,14 @@ fn main() -> Result<()> {
         }) => (
             *partial,
             Some(format!("unstable at step {step}, t = {time_s} s: {location}")),
+        ),
+        Err(fem::RunError::Interrupted {
+            step,
+            time_s,
+            partial,
+        }) => (
+            *partial,
+            Some(format!("stopped on request at step {step}, t = {time_s} s")),
         ),
         Err(e) => return Err(e.into()),
     };
@@ -73,4 +112,13 @@ fn main() -> Result<()> {
         bail!("{msg}; the output up to there is in {}", out_dir.display());
     }
     Ok(())
+}
+
+/// The scene file's name without extension, as a folder name.
+fn stem(path: &std::path::Path) -> String {
+    preflight::paths::folder_name(
+        &path
+            .file_stem()
+            .map_or(String::new(), |s| s.to_string_lossy().into_owned()),
+    )
 }

@@ -4,16 +4,10 @@
 use crate::model::cohesive::reversible_energy;
 use crate::model::state::{Model, State, Workspace};
 use crate::output::EnergyRecord;
-use rayon::prelude::*;
 
 /// Kinetic energy ½ Σ m |v|² [J/m].
 pub(crate) fn kinetic(model: &Model, state: &State) -> f64 {
-    0.5 * state
-        .v
-        .par_iter()
-        .zip(model.mass.par_iter())
-        .map(|(v, m)| m * v.norm_squared())
-        .sum::<f64>()
+    0.5 * crate::model::reduce::ordered_sum(state.v.len(), |i| model.mass[i] * state.v[i].norm_squared())
 }
 
 /// Energy record at the current state (`ws.strain_energy` must be from this step).

@@ -296,11 +296,7 @@ fn element_row_force(k: &Ke, la: usize, nodes: &[u32; 4], u: &[Vector2<f64>]) ->
 
 /// Strain energy ½ Σ_a u_a · f_int,a [J/m] from the assembled f = −f_int.
 pub(crate) fn strain_energy(u: &[Vector2<f64>], f_neg_int: &[Vector2<f64>]) -> f64 {
-    -0.5 * u
-        .par_iter()
-        .zip(f_neg_int.par_iter())
-        .map(|(a, b)| a.dot(b))
-        .sum::<f64>()
+    -0.5 * crate::model::reduce::ordered_sum(u.len(), |i| u[i].dot(&f_neg_int[i]))
 }
 
 #[cfg(test)]

@@ -6,4 +6,5 @@ pub mod cohesive;
 pub(crate) mod insertion;
 pub(crate) mod loading;
 pub(crate) mod mapped;
+pub(crate) mod reduce;
 pub mod state;

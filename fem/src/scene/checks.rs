@@ -4,12 +4,17 @@
 use crate::error::SceneError;
 
 /// `value` if it is finite and `ok`; otherwise an out-of-range error naming `field`.
-pub(crate) fn check(field: &'static str, value: f64, ok: bool, allowed: &str) -> Result<f64, SceneError> {
+pub(crate) fn check(
+    field: impl Into<String>,
+    value: f64,
+    ok: bool,
+    allowed: &str,
+) -> Result<f64, SceneError> {
     if ok && value.is_finite() {
         Ok(value)
     } else {
         Err(SceneError::OutOfRange {
-            field,
+            field: field.into(),
             value,
             allowed: allowed.to_string(),
         })
@@ -19,7 +24,7 @@ pub(crate) fn check(field: &'static str, value: f64, ok: bool, allowed: &str) ->
 /// The option of `table` named by `value` (`default` when the key is absent); an unknown name is
 /// refused with the allowed ones.
 pub(crate) fn option<T: Copy>(
-    field: &'static str,
+    field: impl Into<String>,
     value: Option<&String>,
     default: T,
     table: &[(&str, T)],
@@ -31,8 +36,28 @@ pub(crate) fn option<T: Copy>(
         .find(|(k, _)| *k == v.as_str())
         .map(|(_, t)| *t)
         .ok_or_else(|| SceneError::BadOption {
-            field,
+            field: field.into(),
             value: v.clone(),
             allowed,
         })
+}
+
+/// Keys that do not fit together: `key` is the one to change.
+pub(crate) fn inconsistent(key: impl Into<String>, message: impl Into<String>) -> SceneError {
+    SceneError::Inconsistent {
+        key: key.into(),
+        message: message.into(),
+    }
+}
+
+/// The value of `r`, or `None` with its error added to `errors`: validation goes on past a bad
+/// key, so one run of a scene reports all its problems.
+pub(crate) fn keep<T>(errors: &mut Vec<SceneError>, r: Result<T, SceneError>) -> Option<T> {
+    match r {
+        Ok(v) => Some(v),
+        Err(e) => {
+            errors.push(e);
+            None
+        }
+    }
 }

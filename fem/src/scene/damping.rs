@@ -3,7 +3,7 @@
 //! nodes in contact or on a cohesive element by 0.99 every step; that rate doubles each time the
 //! step halves, so a rate can also be given as a decay time, the same in every mesh.
 
-use super::checks::{check, option};
+use super::checks::{check, inconsistent, option};
 use super::raw::RawFem;
 use crate::error::SceneError;
 
@@ -100,23 +100,24 @@ pub(crate) fn damping(f: &RawFem) -> Result<Damping, SceneError> {
     let window = match (f.damping_window, windowed) {
         (Some(w), true) => check("fem.damping_window", w, w > 0.0, "> 0 s")?,
         (None, true) => {
-            return Err(SceneError::Geometry(
-                "fem.damping = \"inserted\" or \"contact_and_inserted\" needs fem.damping_window [s]"
-                    .to_string(),
+            return Err(inconsistent(
+                "fem.damping",
+                "\"inserted\" or \"contact_and_inserted\" needs fem.damping_window [s]",
             ));
         }
         (Some(_), false) => {
-            return Err(SceneError::Geometry(
-                "fem.damping_window applies only to fem.damping = \"inserted\" or \"contact_and_inserted\""
-                    .to_string(),
+            return Err(inconsistent(
+                "fem.damping_window",
+                "applies only to fem.damping = \"inserted\" or \"contact_and_inserted\"",
             ));
         }
         (None, false) => 0.0,
     };
     let rate = match (f.damping_factor, f.damping_time) {
         (Some(_), Some(_)) => {
-            return Err(SceneError::Geometry(
-                "give fem.damping_factor [-] or fem.damping_time [s], not both".to_string(),
+            return Err(inconsistent(
+                "fem.damping_time",
+                "give fem.damping_factor [-] or fem.damping_time [s], not both",
             ));
         }
         (_, Some(tau)) => DampingRate::DecayTime(check("fem.damping_time", tau, tau > 0.0, "> 0 s")?),

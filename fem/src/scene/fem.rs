@@ -1,7 +1,7 @@
 //! The `[fem]` section: discretisation, model options, boundary conditions.
 
 use super::boundary::{BoundarySpec, side};
-use super::checks::{check, option};
+use super::checks::{check, inconsistent, keep, option};
 use super::damping::{Damping, damping};
 use super::diagnostics::{Diagnostics, diagnostics};
 use super::interface_spec::{
@@ -113,48 +113,62 @@ fn geometry(f: &RawFem, crack: Option<&Crack>) -> Result<(), SceneError> {
         ("height above y = 0", y1),
     ] {
         if !is_multiple(len, h) {
-            return Err(SceneError::Geometry(format!(
-                "{name} {len} m is not a multiple of fem.element_size = {h} m"
-            )));
+            return Err(inconsistent(
+                "fem.element_size",
+                format!("{name} {len} m is not a multiple of fem.element_size = {h} m"),
+            ));
         }
     }
     if let Some(c) = crack {
         for tip in [c.center_x - c.half_length, c.center_x + c.half_length] {
             let inside = tip > x0 && tip < x1;
             if inside && !is_multiple(tip - x0, h) {
-                return Err(SceneError::Geometry(format!(
-                    "crack tip x = {tip} m is not on a node (h = {h} m)"
-                )));
+                return Err(inconsistent(
+                    "crack.half_length",
+                    format!("crack tip x = {tip} m is not on a node (fem.element_size = {h} m)"),
+                ));
             }
         }
         if c.center_x + c.half_length <= x0 || c.center_x - c.half_length >= x1 {
-            return Err(SceneError::Geometry(
-                "the pre-crack lies outside the domain".to_string(),
+            return Err(inconsistent(
+                "crack.center_x",
+                "the pre-crack lies outside fem.x_range",
             ));
         }
     }
     Ok(())
 }
 
-/// Validates `[fem]` against the pre-crack and the duration.
-pub(crate) fn validate_fem(f: &RawFem, crack: Option<&Crack>, duration: f64) -> Result<FemSpec, SceneError> {
-    geometry(f, crack)?;
-    let (model, insertion_rule) = options(f)?;
-    let damping = damping(f)?;
-    let (time_step_safety, eps_n, eps_t) = step_and_penalties(f, duration)?;
-    let (max_gap, projection_tolerance) = contact_distances(f)?;
-    let (upper_offset, boundary) = blocks_and_boundary(f, crack)?;
-    let (interface_zones, contact_surface) = zones_and_surface(f)?;
-    let interface_polyline = match &f.interface_sine {
-        Some(s) => {
-            let center = crack.map_or(0.0, |c| c.center_x);
-            let mut g = RawFem::clone(f);
-            g.interface_polyline = Some(sine_polyline(f, s, center)?);
-            polyline(&g, upper_offset)?
-        }
-        None => polyline(f, upper_offset)?,
+/// Validates `[fem]` against the pre-crack and the duration T [s], adding every problem found to
+/// `errors` (`None` if there was any).
+pub(crate) fn validate_fem(
+    f: &RawFem,
+    crack: Option<&Crack>,
+    duration: f64,
+    errors: &mut Vec<SceneError>,
+) -> Option<FemSpec> {
+    let before = errors.len();
+    let geometry_ok = keep(errors, geometry(f, crack)).is_some();
+    let options = keep(errors, options(f));
+    let damping = keep(errors, damping(f));
+    let steps = keep(errors, step_and_penalties(f, duration));
+    let distances = keep(errors, contact_distances(f));
+    let blocks = keep(errors, blocks_and_boundary(f, crack));
+    let zones = keep(errors, zones_and_surface(f));
+    let contact_friction = keep(errors, contact_friction(f));
+    let diagnostics = keep(errors, diagnostics(f, duration));
+    let probes = keep(errors, probes(f));
+    let polyline = match (geometry_ok, &blocks) {
+        (true, Some((upper_offset, _))) => keep(errors, interface_row(f, crack, *upper_offset)),
+        _ => None,
     };
-    Ok(FemSpec {
+    if errors.len() > before {
+        return None;
+    }
+    let ((model, insertion_rule), (time_step_safety, eps_n, eps_t)) = (options?, steps?);
+    let ((max_gap, projection_tolerance), (upper_offset, boundary)) = (distances?, blocks?);
+    let (interface_zones, contact_surface) = zones?;
+    Some(FemSpec {
         x_range: f.x_range,
         y_range: f.y_range,
         element_size: f.element_size,
@@ -167,18 +181,36 @@ pub(crate) fn validate_fem(f: &RawFem, crack: Option<&Crack>, duration: f64) -> 
         mode_ii_uy: f.mode_ii_uy.unwrap_or(false),
         output_interval: f.output_interval,
         insertion_rule,
-        damping,
+        damping: damping?,
         max_gap,
         projection_tolerance,
         upper_offset,
-        interface_polyline,
+        interface_polyline: polyline?,
         interface_zones,
         contact_surface,
-        contact_friction: contact_friction(f)?,
-        diagnostics: diagnostics(f, duration)?,
-        probes: probes(f)?,
+        contact_friction: contact_friction?,
+        diagnostics: diagnostics?,
+        probes: probes?,
         boundary,
     })
+}
+
+/// The interface row's path: the sine of `interface_sine` sampled at the node columns, or the
+/// user's `interface_polyline`, or flat.
+fn interface_row(
+    f: &RawFem,
+    crack: Option<&Crack>,
+    upper_offset: f64,
+) -> Result<Option<Vec<[f64; 2]>>, SceneError> {
+    match &f.interface_sine {
+        Some(s) => {
+            let center = crack.map_or(0.0, |c| c.center_x);
+            let mut g = RawFem::clone(f);
+            g.interface_polyline = Some(sine_polyline(f, s, center)?);
+            polyline(&g, upper_offset, "fem.interface_sine.amplitude")
+        }
+        None => polyline(f, upper_offset, "fem.interface_polyline"),
+    }
 }
 
 /// The string options: model and insertion rule.
@@ -211,6 +243,12 @@ fn step_and_penalties(f: &RawFem, duration: f64) -> Result<(f64, f64, f64), Scen
     )?;
     if let Some(dt) = f.time_step {
         check("fem.time_step", dt, dt > 0.0, "> 0 s")?;
+        if f.time_step_safety.is_some() {
+            return Err(inconsistent(
+                "fem.time_step",
+                "give fem.time_step [s] or fem.time_step_safety [-], not both",
+            ));
+        }
     }
     let dt_out = f.output_interval;
     check(
@@ -254,8 +292,9 @@ fn blocks_and_boundary(f: &RawFem, crack: Option<&Crack>) -> Result<(f64, Option
         c.center_x - c.half_length <= f.x_range[0] && c.center_x + c.half_length >= f.x_range[1]
     });
     if upper_offset > 0.0 && !full_width {
-        return Err(SceneError::Geometry(
-            "fem.upper_offset needs a full-width pre-crack (two separate blocks)".to_string(),
+        return Err(inconsistent(
+            "fem.upper_offset",
+            "needs a full-width pre-crack (two separate blocks)",
         ));
     }
     let boundary = match &f.boundary {
@@ -270,9 +309,9 @@ fn blocks_and_boundary(f: &RawFem, crack: Option<&Crack>) -> Result<(f64, Option
         }),
     };
     if boundary.is_none() && (crack.is_none() || full_width) {
-        return Err(SceneError::Geometry(
-            "the Westergaard boundary field needs a centre pre-crack inside the domain; give [fem.boundary] instead"
-                .to_string(),
+        return Err(inconsistent(
+            "fem.boundary",
+            "missing: the Westergaard boundary field needs a centre pre-crack inside the domain; give [fem.boundary] instead",
         ));
     }
     Ok((upper_offset, boundary))
@@ -297,30 +336,61 @@ fn probes(f: &RawFem) -> Result<Vec<[f64; 2]>, SceneError> {
     Ok(probes)
 }
 
-fn polyline(f: &RawFem, upper_offset: f64) -> Result<Option<Vec<[f64; 2]>>, SceneError> {
+/// Validates the row's path; `key` names it in errors (`fem.interface_polyline`, or the sine's
+/// amplitude when the path is the generated sine). The row is piecewise linear between node
+/// columns, so a point of the path that falls between columns and off that line is a feature
+/// finer than h the mesh cannot follow: refused, rather than lost unnoticed.
+fn polyline(f: &RawFem, upper_offset: f64, key: &'static str) -> Result<Option<Vec<[f64; 2]>>, SceneError> {
     let Some(p) = &f.interface_polyline else {
         return Ok(None);
     };
     if p.len() < 2 || upper_offset > 0.0 {
-        return Err(SceneError::Geometry(
-            "fem.interface_polyline needs at least 2 points and no fem.upper_offset".to_string(),
+        return Err(inconsistent(
+            "fem.interface_polyline",
+            "needs at least 2 points and no fem.upper_offset",
         ));
     }
     let limit = 0.5 * (-f.y_range[0]).min(f.y_range[1]);
     for (k, q) in p.iter().enumerate() {
         let increasing = k == 0 || q[0] > p[k - 1][0];
         check(
-            "fem.interface_polyline x",
+            "fem.interface_polyline",
             q[0],
             increasing,
-            "strictly increasing x [m]",
+            "points with strictly increasing x [m]",
         )?;
         check(
-            "fem.interface_polyline y",
+            key,
             q[1],
             q[1].abs() < limit,
-            "|y| < half the smaller of the heights below and above y = 0 [m]",
+            "a path with |y| < half the smaller of the heights below and above y = 0 [m]",
         )?;
+    }
+    let (h, x0) = (f.element_size, f.x_range[0]);
+    let y_at = |x: f64| {
+        if x <= p[0][0] || x >= p[p.len() - 1][0] {
+            return 0.0;
+        }
+        let k = p.partition_point(|q| q[0] <= x).max(1);
+        let (a, b) = (p[k - 1], p[k]);
+        a[1] + (b[1] - a[1]) * (x - a[0]) / (b[0] - a[0])
+    };
+    for q in p {
+        let i = ((q[0] - x0) / h).floor();
+        let (xa, xb) = (x0 + i * h, x0 + (i + 1.0) * h);
+        let on_row = y_at(xa) + (y_at(xb) - y_at(xa)) * (q[0] - xa) / h;
+        if (q[1] - on_row).abs() > 0.1 * h {
+            return Err(inconsistent(
+                "fem.interface_polyline",
+                format!(
+                    "the point ({}, {}) m is {:.3e} m off the mesh row, whose nodes are fem.element_size = {h} m \
+                     apart: features finer than h cannot be followed; refine the mesh or smooth the path",
+                    q[0],
+                    q[1],
+                    (q[1] - on_row).abs()
+                ),
+            ));
+        }
     }
     Ok(Some(p.clone()))
 }

@@ -2,7 +2,7 @@
 //! (`interface_sine`), stretches with their own cohesive law (`interface_zones`) and which faces
 //! join the contact detection surface (`contact_surface`, paper eqs. (10) and (16)).
 
-use super::checks::{check, option};
+use super::checks::{check, inconsistent, option};
 use super::raw::{RawFem, RawSine, RawZone};
 use crate::error::SceneError;
 use crate::law::cohesive::LinearCohesive;
@@ -54,8 +54,9 @@ pub(crate) fn sine_polyline(f: &RawFem, s: &RawSine, center_x: f64) -> Result<Ve
     check("fem.interface_sine.from", s.from, s.from >= 0.0, ">= 0 m")?;
     check("fem.interface_sine.to", s.to, s.to > s.from, "> from [m]")?;
     if f.interface_polyline.is_some() {
-        return Err(SceneError::Geometry(
-            "give fem.interface_polyline or fem.interface_sine, not both".to_string(),
+        return Err(inconsistent(
+            "fem.interface_sine",
+            "give fem.interface_polyline or fem.interface_sine, not both",
         ));
     }
     let h = f.element_size;
@@ -74,23 +75,19 @@ pub(crate) fn sine_polyline(f: &RawFem, s: &RawSine, center_x: f64) -> Result<Ve
         .collect())
 }
 
-fn zone(f: &RawFem, z: &RawZone) -> Result<InterfaceZone, SceneError> {
+fn zone(f: &RawFem, k: usize, z: &RawZone) -> Result<InterfaceZone, SceneError> {
+    let key = |name: &str| format!("fem.interface_zones[{k}].{name}");
     let [x0, x1] = z.x_range;
     check(
-        "fem.interface_zones.x_range",
+        key("x_range"),
         x1 - x0,
         x0 >= f.x_range[0] && x1 <= f.x_range[1] && x1 > x0,
         "x_range[0] < x_range[1], inside fem.x_range [m]",
     )?;
-    check(
-        "fem.interface_zones.sigma_c",
-        z.sigma_c,
-        z.sigma_c > 0.0,
-        "> 0 Pa",
-    )?;
-    check("fem.interface_zones.delta_c", z.delta_c, z.delta_c > 0.0, "> 0 m")?;
-    check("fem.interface_zones.beta", z.beta, z.beta > 0.0, "> 0")?;
-    check("fem.interface_zones.kappa", z.kappa, z.kappa > 0.0, "> 0")?;
+    check(key("sigma_c"), z.sigma_c, z.sigma_c > 0.0, "> 0 Pa")?;
+    check(key("delta_c"), z.delta_c, z.delta_c > 0.0, "> 0 m")?;
+    check(key("beta"), z.beta, z.beta > 0.0, "> 0")?;
+    check(key("kappa"), z.kappa, z.kappa > 0.0, "> 0")?;
     Ok(InterfaceZone {
         x_range: z.x_range,
         law: LinearCohesive {
@@ -122,15 +119,16 @@ pub(crate) fn zones_and_surface(f: &RawFem) -> Result<(Vec<InterfaceZone>, Conta
         .interface_zones
         .iter()
         .flatten()
-        .map(|z| zone(f, z))
+        .enumerate()
+        .map(|(k, z)| zone(f, k, z))
         .collect::<Result<Vec<_>, _>>()?;
     for (k, a) in zones.iter().enumerate() {
         for b in &zones[k + 1..] {
             if a.x_range[0] < b.x_range[1] && b.x_range[0] < a.x_range[1] {
-                return Err(SceneError::Geometry(format!(
-                    "fem.interface_zones overlap: {:?} and {:?} m",
-                    a.x_range, b.x_range
-                )));
+                return Err(inconsistent(
+                    "fem.interface_zones",
+                    format!("zones overlap: {:?} and {:?} m", a.x_range, b.x_range),
+                ));
             }
         }
     }
@@ -143,7 +141,7 @@ pub(crate) fn zones_and_surface(f: &RawFem) -> Result<(Vec<InterfaceZone>, Conta
     )?;
     if surface == ContactSurface::Zones && zones.is_empty() {
         return Err(SceneError::BadOption {
-            field: "fem.contact_surface",
+            field: "fem.contact_surface".to_string(),
             value: "zones".to_string(),
             allowed: "\"zones\" only with fem.interface_zones",
         });
@@ -206,10 +204,10 @@ mod tests {
         assert!(e.contains("overlap"), "{e}");
         let outside = sinusoid().replace("x_range = [0.125, 0.3125]", "x_range = [0.125, 0.5]");
         let e = Scene::from_toml_str(&outside).unwrap_err().to_string();
-        assert!(e.contains("fem.interface_zones.x_range"), "{e}");
+        assert!(e.contains("fem.interface_zones[1].x_range"), "{e}");
         let weak = sinusoid().replace("sigma_c = 0.04e6 ", "sigma_c = -1.0 ");
         let e = Scene::from_toml_str(&weak).unwrap_err().to_string();
-        assert!(e.contains("fem.interface_zones.sigma_c"), "{e}");
+        assert!(e.contains("fem.interface_zones[0].sigma_c"), "{e}");
         let no_zones: String = sinusoid()
             .replace("contact_surface = \"all\"", "contact_surface = \"zones\"")
             .split("[[fem.interface_zones]]")

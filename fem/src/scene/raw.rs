@@ -1,9 +1,9 @@
-//! The TOML form of a scene (serde, `deny_unknown_fields`); no physics, no checks.
+//! The TOML form of a scene (serde); no physics, no checks. Unknown keys are collected while
+//! parsing (`preflight::parse`, in `Scene::from_toml_str`) so that all of them are reported at once.
 
 use serde::Deserialize;
 
 #[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub(crate) struct RawScene {
     pub name: Option<String>,
     pub material: RawMaterial,
@@ -21,7 +21,6 @@ pub(crate) struct RawScene {
 }
 
 #[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub(crate) struct RawMaterial {
     pub youngs_modulus: f64,
     pub poisson_ratio: f64,
@@ -29,7 +28,6 @@ pub(crate) struct RawMaterial {
 }
 
 #[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub(crate) struct RawInterface {
     pub sigma_c: f64,
     pub delta_c: f64,
@@ -38,20 +36,17 @@ pub(crate) struct RawInterface {
 }
 
 #[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub(crate) struct RawCrack {
     pub half_length: f64,
     pub center_x: f64,
 }
 
 #[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub(crate) struct RawFriction {
     pub friction_coeff: f64,
 }
 
 #[derive(Debug, Clone, Copy, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub(crate) struct RawRamp {
     pub initial: f64,
     #[serde(rename = "final")]
@@ -61,7 +56,6 @@ pub(crate) struct RawRamp {
 }
 
 #[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub(crate) struct RawLoading {
     pub duration: f64,
     pub normal: Option<RawRamp>,
@@ -69,7 +63,6 @@ pub(crate) struct RawLoading {
 }
 
 #[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub(crate) struct RawBoundaryComponent {
     pub kind: String,
     pub initial: f64,
@@ -80,14 +73,12 @@ pub(crate) struct RawBoundaryComponent {
 }
 
 #[derive(Debug, Clone, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub(crate) struct RawSide {
     pub x: Option<RawBoundaryComponent>,
     pub y: Option<RawBoundaryComponent>,
 }
 
 #[derive(Debug, Clone, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub(crate) struct RawBoundary {
     pub bottom: Option<RawSide>,
     pub right: Option<RawSide>,
@@ -96,7 +87,6 @@ pub(crate) struct RawBoundary {
 }
 
 #[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub(crate) struct RawFem {
     pub x_range: [f64; 2],
     pub y_range: [f64; 2],
@@ -131,7 +121,6 @@ pub(crate) struct RawFem {
 }
 
 #[derive(Debug, Clone, Copy, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub(crate) struct RawSine {
     pub amplitude: f64,
     pub half_period: f64,
@@ -140,7 +129,6 @@ pub(crate) struct RawSine {
 }
 
 #[derive(Debug, Clone, Copy, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub(crate) struct RawZone {
     pub x_range: [f64; 2],
     pub sigma_c: f64,

@@ -2,4 +2,5 @@
 
 pub mod central_difference;
 pub(crate) mod contact_step;
+pub mod estimate;
 pub mod run;

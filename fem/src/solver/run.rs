@@ -1,20 +1,28 @@
-//! The time loop: steps from 0 to T, samples every `output_interval`, stops on instability with
-//! the output computed so far (RunError::Unstable).
+//! The time loop: steps from 0 to T, samples every `output_interval`, stops on instability
+//! (RunError::Unstable) or when asked to (RunError::Interrupted), with the output computed so far.
 
 use crate::diag::{Observer, Recorder, tips};
 use crate::error::RunError;
 use crate::model::build::build;
+use crate::model::state::{Model, State, Workspace};
 use crate::output::RunOutput;
 use crate::scene::Scene;
 use crate::solver::central_difference::step;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Runs the scene from t = 0 to T.
 pub fn run(scene: &Scene) -> Result<RunOutput, RunError> {
-    run_with_progress(scene, &mut |_, _| {})
+    run_with_progress(scene, &mut |_, _| {}, &AtomicBool::new(false))
 }
 
-/// As [`run`]; `progress(steps_done, total_steps)` is called at most a few hundred times.
-pub fn run_with_progress(scene: &Scene, progress: &mut dyn FnMut(u64, u64)) -> Result<RunOutput, RunError> {
+/// As [`run`]; `progress(steps_done, total_steps)` is called at most a few hundred times, and the
+/// run stops after the step during which `stop` is raised (e.g. by Ctrl-C) with
+/// `RunError::Interrupted` and everything recorded so far.
+pub fn run_with_progress(
+    scene: &Scene,
+    progress: &mut dyn FnMut(u64, u64),
+    stop: &AtomicBool,
+) -> Result<RunOutput, RunError> {
     let (model, mut state, mut ws) = build(scene)?;
     let dt = model.dt;
     let total = (scene.duration() / dt).ceil() as u64;
@@ -42,21 +50,29 @@ pub fn run_with_progress(scene: &Scene, progress: &mut dyn FnMut(u64, u64)) -> R
             for n in done + 1..=end {
                 let sample = n % every == 0 || n == total;
                 if let Err(b) = step(&model, &mut state, &mut ws, sample) {
-                    return Some(b);
+                    return Some(Err(b));
                 }
                 if sample {
                     Recorder { out: &mut out }.observe(&model, &state, &ws);
                 }
+                if stop.load(Ordering::Relaxed) {
+                    return Some(Ok(()));
+                }
             }
             None
         });
-        if let Some(b) = failed {
+        if let Some(Ok(())) = failed {
+            finish(&model, &state, &ws, &mut out);
+            return Err(RunError::Interrupted {
+                step: state.step,
+                time_s: state.t,
+                partial: Box::new(out),
+            });
+        }
+        if let Some(Err(b)) = failed {
             let x = model.grid.x0[b.node];
             let v = state.v[b.node];
-            out.steps = state.step;
-            out.arrivals = tips::arrivals(&model, &state);
-            out.friction = crate::diag::energy::friction_records(&model, &state);
-            (out.cohesive_seconds, out.contact_seconds) = ws.profile_seconds();
+            finish(&model, &state, &ws, &mut out);
             return Err(RunError::Unstable {
                 step: state.step,
                 time_s: state.t,
@@ -70,9 +86,14 @@ pub fn run_with_progress(scene: &Scene, progress: &mut dyn FnMut(u64, u64)) -> R
         done = end;
         progress(done, total);
     }
-    out.steps = state.step;
-    out.arrivals = tips::arrivals(&model, &state);
-    out.friction = crate::diag::energy::friction_records(&model, &state);
-    (out.cohesive_seconds, out.contact_seconds) = ws.profile_seconds();
+    finish(&model, &state, &ws, &mut out);
     Ok(out)
+}
+
+/// The records computed once, when the run ends (at T or before).
+fn finish(model: &Model, state: &State, ws: &Workspace, out: &mut RunOutput) {
+    out.steps = state.step;
+    out.arrivals = tips::arrivals(model, state);
+    out.friction = crate::diag::energy::friction_records(model, state);
+    (out.cohesive_seconds, out.contact_seconds) = ws.profile_seconds();
 }

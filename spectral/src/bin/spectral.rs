@@ -1,59 +1,102 @@
-//! `spectral SCENE.toml [--out DIR]`: runs a scene, writes CSV, prints where the outputs went.
+//! `spectral SCENE.toml [--out DIR]`: checks everything first (the scene, the kernel fit, the
+//! budgets, the output folder), then runs the scene, writes CSV and prints where the outputs went.
 
 use std::path::PathBuf;
 
-use anyhow::Context;
+use anyhow::{Context, anyhow};
 use clap::Parser;
 use indicatif::{ProgressBar, ProgressStyle};
+use preflight::budget::{DEFAULT_MAX_BYTES, DEFAULT_MAX_STEPS};
 
 /// Runs one scene with the spectral boundary-integral model of an interface between identical
 /// half-spaces and writes its records as CSV (tips, contact means, space-time fields). A run that
-/// goes unstable keeps what it computed and exits non-zero.
+/// goes unstable, or is stopped with Ctrl-C, keeps what it computed and exits non-zero.
 #[derive(Debug, Parser)]
 #[command(name = "spectral", version)]
 struct Cli {
-    /// Scene file (TOML; see spectral/README.md for every key).
+    /// Scene file (TOML; see docs/scenes.md for every key).
     scene: PathBuf,
     /// Output folder (default: out/spectral-<scene file name>/).
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
+    /// Memory budget [GiB]: a run estimated above it is refused before it starts.
+    #[arg(long, value_name = "GIB", default_value_t = (DEFAULT_MAX_BYTES >> 30) as f64)]
+    max_memory: f64,
+    /// Time-step budget: a run needing more steps is refused before it starts.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_STEPS)]
+    max_steps: u64,
 }
 
 fn main() -> anyhow::Result<()> {
     let cli = Cli::parse();
-    let (scene_path, out_dir) = (cli.scene, cli.out);
+    let scene_path = &cli.scene;
     let text =
-        std::fs::read_to_string(&scene_path).with_context(|| format!("reading {}", scene_path.display()))?;
+        std::fs::read_to_string(scene_path).with_context(|| format!("reading {}", scene_path.display()))?;
     let scene =
         spectral::Scene::from_toml_str(&text).with_context(|| format!("scene {}", scene_path.display()))?;
-    let stem = scene_path
-        .file_stem()
-        .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
-    let out_dir = out_dir.unwrap_or_else(|| PathBuf::from("out").join(format!("spectral-{stem}")));
-    let bar = ProgressBar::new(1);
+    let out_dir = match &cli.out {
+        Some(dir) => preflight::paths::explicit(dir)
+            .map_err(|e| anyhow!(e))?
+            .to_path_buf(),
+        None => {
+            let stem = scene_path
+                .file_stem()
+                .map_or(String::new(), |s| s.to_string_lossy().into_owned());
+            PathBuf::from("out").join(format!("spectral-{}", preflight::paths::folder_name(&stem)))
+        }
+    };
+    let estimate = spectral::estimate(&scene).with_context(|| format!("scene {}", scene_path.display()))?;
+    preflight::Budget::new(cli.max_memory, cli.max_steps)
+        .check(&estimate)
+        .map_err(|e| anyhow!("scene {}: {e}", scene_path.display()))?;
+    preflight::paths::claim(&out_dir, "spectral").map_err(|e| anyhow!(e))?;
+    let stop = preflight::stop::on_signal().map_err(|e| anyhow!(e))?;
+    for w in scene.warnings() {
+        eprintln!("warning: {w}");
+    }
+    println!(
+        "{}: {} (dt = {:.4e} s); output in {}",
+        scene_path.display(),
+        estimate.summary(),
+        scene.time_step(),
+        out_dir.display()
+    );
+    let bar = ProgressBar::new(estimate.steps);
     bar.set_style(ProgressStyle::with_template(
         "{bar:40} {pos}/{len} steps {elapsed_precise} eta {eta}",
     )?);
     let start = std::time::Instant::now();
-    let result = spectral::run_with_progress(&scene, &mut |done, total| {
-        bar.set_length(total);
-        bar.set_position(done);
-    });
+    let result = spectral::run_with_progress(
+        &scene,
+        &mut |done, total| {
+            bar.set_length(total);
+            bar.set_position(done);
+        },
+        stop,
+    );
     bar.finish();
     let wall = start.elapsed().as_secs_f64();
-    let output = match result {
-        Ok(o) => o,
+    let (output, failure) = match result {
+        Ok(o) => (o, None),
         Err(spectral::RunError::Unstable {
             partial,
             step,
             time_s,
             location,
-        }) => {
-            let files = spectral::write_csv(&partial, &out_dir)?;
-            eprintln!("partial output written to {}", out_dir.display());
-            drop(files);
-            anyhow::bail!("unstable at step {step} (t = {time_s:e} s) at {location}");
-        }
+        }) => (
+            *partial,
+            Some(format!(
+                "unstable at step {step} (t = {time_s:e} s) at {location}"
+            )),
+        ),
+        Err(spectral::RunError::Interrupted {
+            partial,
+            step,
+            time_s,
+        }) => (
+            *partial,
+            Some(format!("stopped on request at step {step} (t = {time_s:e} s)")),
+        ),
         Err(e) => return Err(e.into()),
     };
     let files =
@@ -64,12 +107,15 @@ fn main() -> anyhow::Result<()> {
         s.steps,
         s.grid_points,
         wall,
-        1e3 * wall / s.steps as f64,
+        1e3 * wall / s.steps.max(1) as f64,
         s.bytes_per_step as f64 / 1e6,
         s.exp_terms
     );
     for f in files {
         println!("{}", f.display());
+    }
+    if let Some(msg) = failure {
+        anyhow::bail!("{msg}; the output up to there is in {}", out_dir.display());
     }
     Ok(())
 }

@@ -175,7 +175,10 @@ fn center_crack_with_friction() {
 
 /// Paper §3.3 (Figure 6a, b): before the onset the faces touch only along the pre-crack; once
 /// the crack runs, also along the new faces behind it; at the onset the pre-crack faces slip
-/// (|T| = μ p_N on at least half of its contacting nodes) and keep slipping while the crack runs.
+/// (|T| = μ p_N on at least half of its contacting nodes) and keep slipping while the crack runs,
+/// i.e. until its tip reaches 1.9a (where the propagation metrics end too). Afterwards the tip
+/// stalls near the displacement-controlled edge at 2a and the faces stick and slip in turns,
+/// which the paper does not discuss.
 fn check_contact_zones(scene: &fem::Scene, out: &fem::RunOutput, onset: f64) {
     let (a, xc, mu) = (scene.half_length(), scene.center_x(), scene.friction_coeff);
     let on_new_faces = |f: &&fem::FaceRecord| (f.x - xc).abs() > a && f.normal_traction > 0.0;
@@ -194,7 +197,16 @@ fn check_contact_zones(scene: &fem::Scene, out: &fem::RunOutput, onset: f64) {
     println!("contacts on the new faces (|x - x_c| > a): {before} samples before the onset, {after} after");
     assert_eq!(before, 0, "contact outside the pre-crack before the onset");
     assert!(after > 0, "the new faces never touch");
-    let mut times: Vec<f64> = out.faces.iter().filter(|f| f.t >= onset).map(|f| f.t).collect();
+    let tips = compare::runner::fem_tips(out);
+    let at_1_9a = Series::half_length(&tips)
+        .first_crossing(1.9 * a)
+        .expect("the crack must reach 1.9a");
+    let mut times: Vec<f64> = out
+        .faces
+        .iter()
+        .filter(|f| f.t >= onset && f.t <= at_1_9a)
+        .map(|f| f.t)
+        .collect();
     times.dedup();
     let slipping_share = |t: f64| {
         let on_pre_crack = out
@@ -211,7 +223,8 @@ fn check_contact_zones(scene: &fem::Scene, out: &fem::RunOutput, onset: f64) {
     };
     let least = times.iter().map(|&t| slipping_share(t)).fold(1.0, f64::min);
     println!(
-        "from the onset to T at least {:.1} % of the contacting pre-crack nodes slip",
+        "from the onset to 1.9a (t/T = {:.3}) at least {:.1} % of the contacting pre-crack nodes slip",
+        at_1_9a / scene.duration(),
         100.0 * least
     );
     assert!(least >= 0.5, "the pre-crack faces stop slipping after the onset");

@@ -53,3 +53,6 @@ mod fem_sinusoid;
 mod compare_converged;
 #[cfg(feature = "fem")]
 mod fem_extremes;
+
+// ---- reproducibility ----
+mod determinism;

@@ -1,0 +1,167 @@
+//! `compare` checks the whole scene — both models, every `[compare]` key, every friction value
+//! and model it lists, the budgets and the output folder — before its first time step, and
+//! reports every problem at once with the key and the line of the user's file. "No step ran":
+//! the output folder is never created and nothing is printed on stdout.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn scene_text(name: &str) -> String {
+    std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../scenes/{name}.toml")))
+        .unwrap()
+}
+
+fn scratch(test: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("compare-bad-input-{test}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Runs `compare [job] --scene <text> --out <dir>/out [extra]`; asserts it failed before any step
+/// and returns its stderr.
+fn refused(test: &str, job: &[&str], text: &str, extra: &[&str]) -> String {
+    let dir = scratch(test);
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, text).unwrap();
+    let out = dir.join("out");
+    let o = Command::new(env!("CARGO_BIN_EXE_compare"))
+        .args(job)
+        .arg("--scene")
+        .arg(&scene)
+        .arg("--out")
+        .arg(&out)
+        .args(extra)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert!(!o.status.success(), "accepted: {stderr}");
+    assert!(
+        o.stdout.is_empty(),
+        "started: {}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    assert!(!out.exists(), "the output folder was created");
+    stderr
+}
+
+fn line_of(text: &str, needle: &str) -> usize {
+    text.lines().position(|l| l.contains(needle)).unwrap() + 1
+}
+
+#[test]
+fn problems_of_both_models_and_of_compare_are_reported_together_with_their_lines() {
+    let text = scene_text("center-crack")
+        .replace("poisson_ratio = 0.35 ", "poisson_ratio = 0.0 ")
+        .replace(
+            "friction_coeffs = [0.0, 0.3] ",
+            "friction_coeffs = [0.0, 100.0]\nsnapshot_t_over_t = 0.5 ",
+        )
+        .replace("grid_points = 4096 ", "grid_points = 4097 ")
+        .replace(
+            "fast_tolerance = 1e-5 ",
+            "fast_tolerance = 1e-5\nfast_tolerence = 1e-6 ",
+        );
+    let e = refused("together", &[], &text, &[]);
+    for (message, needle) in [
+        // ν = 0 is valid for the FE model, not for the spectral kernels
+        ("material.poisson_ratio = 0", "poisson_ratio = 0.0"),
+        ("compare.friction_coeffs: 100 is refused", "friction_coeffs = ["),
+        ("unknown key compare.snapshot_t_over_t", "snapshot_t_over_t"),
+        ("spectral.grid_points = 4097", "grid_points = 4097"),
+        ("unknown key spectral.fast_tolerence", "fast_tolerence"),
+    ] {
+        let expected = format!("line {}: {message}", line_of(&text, needle));
+        assert!(e.contains(&expected), "{expected}\n{e}");
+    }
+}
+
+#[test]
+fn values_of_the_wrong_type_and_unknown_models_are_named_on_their_line() {
+    let text =
+        scene_text("center-crack").replace("friction_coeffs = [0.0, 0.3] ", "friction_coeffs = \"0.3\" ");
+    let e = refused("type", &[], &text, &[]);
+    assert!(
+        e.contains(&format!("line {}", line_of(&text, "friction_coeffs = \""))),
+        "{e}"
+    );
+    assert!(
+        !e.contains("missing"),
+        "a value of the wrong type is not a missing key: {e}"
+    );
+    let text = scene_text("sinusoidal-interface").replace("\"hybrid\"]", "\"hybird\"]");
+    let e = refused("model", &["sinusoid"], &text, &[]);
+    assert!(
+        e.contains("hybird") && e.contains(&format!("line {}", line_of(&text, "hybird"))),
+        "{e}"
+    );
+    let text =
+        scene_text("sinusoidal-interface").replace("\"standard\", \"hybrid\"]", "\"hybrid\", \"hybrid\"]");
+    let e = refused("duplicate", &["sinusoid"], &text, &[]);
+    assert!(e.contains("compare.models") && e.contains("twice"), "{e}");
+}
+
+#[test]
+fn a_spectral_grid_that_cannot_hold_the_crack_is_refused() {
+    let text = scene_text("center-crack")
+        .replace("length = 3.75 ", "length = 0.4 ")
+        .replace("grid_points = 4096 ", "grid_points = 512 ");
+    let e = refused("geometry", &[], &text, &[]);
+    assert!(
+        e.contains("spectral.length") && e.contains(&format!("line {}", line_of(&text, "length = 0.4"))),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_study_beyond_the_budget_is_refused_before_its_first_run() {
+    let e = refused(
+        "budget",
+        &[],
+        &scene_text("center-crack"),
+        &["--max-memory", "0.01"],
+    );
+    assert!(
+        e.contains("budget") && e.contains("μ = 0") && e.contains("--max-memory"),
+        "{e}"
+    );
+    let e = refused(
+        "penalty-budget",
+        &["penalty"],
+        &scene_text("center-crack"),
+        &["--max-steps", "1000"],
+    );
+    assert!(e.contains("--max-steps") && e.contains("ε_n"), "{e}");
+}
+
+#[test]
+fn empty_and_unwritable_output_folders_are_refused_before_any_step() {
+    let dir = scratch("paths");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, scene_text("center-crack")).unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_compare"))
+        .arg("--scene")
+        .arg(&scene)
+        .args(["--out", ""])
+        .output()
+        .unwrap();
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && e.contains("--out") && o.stdout.is_empty(),
+        "{e}"
+    );
+    let blocker = dir.join("a-file");
+    std::fs::write(&blocker, "").unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_compare"))
+        .arg("--scene")
+        .arg(&scene)
+        .arg("--out")
+        .arg(blocker.join("out"))
+        .output()
+        .unwrap();
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && e.contains("output folder") && o.stdout.is_empty(),
+        "{e}"
+    );
+}

@@ -1,0 +1,45 @@
+//! A study stopped on request (Ctrl-C, SIGTERM raise the reporter's stop flag) ends at the next
+//! step of its current run: that run's output up to there is written, the study returns an error
+//! saying where, and no later run starts.
+
+use compare::runner::Reporter;
+use compare::study::Study;
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Raises the stop flag at the first progress report of a run.
+struct StopSoon(AtomicBool);
+
+impl Reporter for StopSoon {
+    fn run_started(&self, _label: &str) -> Box<dyn FnMut(u64, u64) + Send + '_> {
+        Box::new(|done, _| {
+            if done > 0 {
+                self.0.store(true, Ordering::Relaxed);
+            }
+        })
+    }
+
+    fn stop(&self) -> &AtomicBool {
+        &self.0
+    }
+}
+
+#[test]
+fn a_stopped_study_keeps_the_output_of_its_current_run() {
+    let study =
+        Study::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/center-crack.toml")).unwrap();
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("compare-interrupt");
+    let _ = std::fs::remove_dir_all(&dir);
+    let e = compare::gate::run_gate(
+        &study,
+        &compare::gate::metrics::PAPER_RESOLUTION,
+        &dir,
+        &StopSoon(AtomicBool::new(false)),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("stopped on request") && e.contains("fem_mu0"), "{e}");
+    let tips = std::fs::read_to_string(dir.join("fem_mu0").join("tips.csv")).unwrap();
+    assert!(tips.lines().count() > 2, "{tips}");
+    assert!(!dir.join("spectral_mu0").exists(), "a run started after the stop");
+}

@@ -1,0 +1,18 @@
+//! Everything checked before a run's first time step, shared by the two models' command lines and
+//! the comparison harness:
+//! - [`file`]: the scene file as its user wrote it — unknown keys collected, every problem located
+//!   on its line;
+//! - [`budget`]: memory and step estimates against a budget, refused with the key to change;
+//! - [`paths`]: output folders that stay where they are asked to be, and are writable before any
+//!   work;
+//! - [`stop`] (feature `signals`): Ctrl-C and SIGTERM stop a run at its next step.
+#![warn(missing_docs)]
+
+pub mod budget;
+pub mod file;
+pub mod paths;
+#[cfg(feature = "signals")]
+pub mod stop;
+
+pub use budget::{Budget, Estimate, Part};
+pub use file::{Problem, line_of, locate, parse, problems_text, unknown_keys};

@@ -1,0 +1,85 @@
+//! Reproducibility: the same scene gives byte-identical output files, run after run and whatever
+//! the number of threads. Each model runs its tiny scene twice on one thread and twice on two
+//! (rayon pools of 1 and 2 workers, as `RAYON_NUM_THREADS=1` and `=2` would give), writes its
+//! CSV files, and every file is compared byte for byte with the first run's. Sums over nodes that
+//! associate their terms in a thread-dependent order (a plain parallel `sum()`) fail this test.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// Every file of `dir`, by name.
+fn files(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| {
+            let e = e.unwrap();
+            (
+                e.file_name().to_string_lossy().into_owned(),
+                std::fs::read(e.path()).unwrap(),
+            )
+        })
+        .collect()
+}
+
+/// Runs `write(dir)` for 1, 1, 2, 2 threads into fresh folders and asserts identical files.
+fn assert_identical(name: &str, write: impl Fn(&Path) + Sync) {
+    let root = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("determinism-{name}"));
+    let _ = std::fs::remove_dir_all(&root);
+    let mut first: Option<BTreeMap<String, Vec<u8>>> = None;
+    for (k, threads) in [1, 1, 2, 2].into_iter().enumerate() {
+        let dir = root.join(format!("run{k}-threads{threads}"));
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| write(&dir));
+        let got = files(&dir);
+        match &first {
+            None => {
+                assert!(got.len() >= 3, "{name}: only {:?}", got.keys());
+                first = Some(got);
+            }
+            Some(f) => {
+                assert_eq!(
+                    f.keys().collect::<Vec<_>>(),
+                    got.keys().collect::<Vec<_>>(),
+                    "{name}"
+                );
+                for (file, bytes) in f {
+                    assert!(
+                        got[file] == *bytes,
+                        "{name}: {file} differs in run {k} ({threads} threads)"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[cfg(feature = "fem")]
+#[test]
+fn fem_output_is_identical_between_runs_and_thread_counts() {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/tiny-fem-center-crack.toml"),
+    )
+    .unwrap();
+    let scene = fem::Scene::from_toml_str(&text).unwrap();
+    assert_identical("fem", |dir| {
+        let out = fem::run(&scene).unwrap();
+        fem::write_csv(&out, dir).unwrap();
+    });
+}
+
+#[cfg(feature = "spectral")]
+#[test]
+fn spectral_output_is_identical_between_runs_and_thread_counts() {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/tiny-spectral-andrews.toml"),
+    )
+    .unwrap();
+    let scene = spectral::Scene::from_toml_str(&text).unwrap();
+    assert_identical("spectral", |dir| {
+        let out = spectral::run(&scene).unwrap();
+        spectral::write_csv(&out, dir).unwrap();
+    });
+}
