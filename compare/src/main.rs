@@ -7,7 +7,6 @@ use compare::runner::Reporter;
 use compare::study::Study;
 use compare::sweep::{self, Model};
 use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
-use preflight::budget::{DEFAULT_MAX_BYTES, DEFAULT_MAX_STEPS};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::AtomicBool;
@@ -40,13 +39,8 @@ struct Common {
     /// Output folder (default: out/<scene file name>[-<job>]/).
     #[arg(long, global = true, value_name = "DIR")]
     out: Option<PathBuf>,
-    /// Memory budget of each run [GiB]: a study with a run estimated above it is refused before
-    /// its first run.
-    #[arg(long, global = true, value_name = "GIB", default_value_t = (DEFAULT_MAX_BYTES >> 30) as f64)]
-    max_memory: f64,
-    /// Time-step budget of each run.
-    #[arg(long, global = true, value_name = "N", default_value_t = DEFAULT_MAX_STEPS)]
-    max_steps: u64,
+    #[command(flatten)]
+    budget: preflight::options::BudgetOptions,
 }
 
 #[derive(Debug, Subcommand)]
@@ -149,7 +143,7 @@ fn print_table(verdicts: &[Verdict]) {
         "metric", "mu", "value", "tolerance", "pass"
     );
     for v in verdicts {
-        println!(
+        let line = format!(
             "{:<38} {:>8} {:>12.5} {:>10} {:>6} {}",
             v.metric,
             v.mu,
@@ -158,6 +152,7 @@ fn print_table(verdicts: &[Verdict]) {
             if v.pass { "yes" } else { "NO" },
             v.note
         );
+        println!("{}", line.trim_end());
     }
 }
 
@@ -196,7 +191,7 @@ fn real_main() -> Result<bool> {
     };
     let scene_path = cli.common.scene.unwrap_or_else(|| default_scene(file));
     let mut study = Study::load(&scene_path)?;
-    study.budget = preflight::Budget::new(cli.common.max_memory, cli.common.max_steps);
+    study.budget = cli.common.budget.budget();
     if let Some(dir) = &cli.common.out {
         preflight::paths::explicit(dir).map_err(|e| anyhow!(e))?;
     }
@@ -304,7 +299,7 @@ fn run_sweep(study: &Study, scene: &Path, dir: &Path) -> Result<bool> {
         "model", "spacing_m", "dt_s", "wall_s", "peak_MiB", "onset_s", "onsetErr/T", "speedErr"
     );
     for r in &rows {
-        println!(
+        let line = format!(
             "{:<9} {:>10.3e} {:>10.3e} {:>9.1} {:>9.0} {:>9.5} {:>11.4} {:>9.4} {}",
             r.model.tag(),
             r.spacing,
@@ -316,6 +311,7 @@ fn run_sweep(study: &Study, scene: &Path, dir: &Path) -> Result<bool> {
             r.speed_error_rel,
             r.note
         );
+        println!("{}", line.trim_end());
     }
     let files = sweep::write_results(dir, &rows)?;
     let names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();

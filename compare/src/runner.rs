@@ -132,9 +132,131 @@ pub struct Job<'a, S> {
     pub keep: Keep,
 }
 
-/// Runs an FE job; an unstable run ends with `failure` saying when and where, and its partial
-/// output written. Other errors stop the study.
-pub fn run_fem(job: Job<fem::Scene>, rep: &dyn Reporter) -> Result<Finished<fem::RunOutput>> {
+/// How a run of either model ended, in one form.
+pub enum Ended<O> {
+    /// It reached T.
+    Completed(O),
+    /// It went unstable (`where_`: its location) or was stopped on request (`where_`: `None`).
+    Early {
+        /// Last step computed.
+        step: u64,
+        /// Its time [s].
+        time_s: f64,
+        /// Where it went unstable; `None` when it was stopped on request.
+        where_: Option<String>,
+        /// The records up to there.
+        partial: O,
+    },
+    /// It could not start.
+    Failed(anyhow::Error),
+}
+
+/// What the runner needs of a model: run a scene, write its output, say what the user should
+/// know about a finished run.
+pub trait Model: Sync {
+    /// The run's records.
+    type Output;
+
+    /// Runs the scene with progress reports and the stop flag.
+    fn run_scene(&self, progress: &mut dyn FnMut(u64, u64), stop: &AtomicBool) -> Ended<Self::Output>;
+
+    /// Writes every record of `out` as CSV into `dir`.
+    fn write(out: &Self::Output, dir: &Path) -> std::io::Result<Vec<std::path::PathBuf>>;
+
+    /// Warnings about a finished run (e.g. contacts lost to the detection distance).
+    fn warnings(&self, _label: &str, _out: &Self::Output) -> Vec<String> {
+        Vec::new()
+    }
+}
+
+impl Model for fem::Scene {
+    type Output = fem::RunOutput;
+
+    fn run_scene(&self, progress: &mut dyn FnMut(u64, u64), stop: &AtomicBool) -> Ended<fem::RunOutput> {
+        match fem::run_with_progress(self, progress, stop) {
+            Ok(out) => Ended::Completed(out),
+            Err(fem::RunError::Unstable {
+                step,
+                time_s,
+                location,
+                partial,
+            }) => Ended::Early {
+                step,
+                time_s,
+                where_: Some(location),
+                partial: *partial,
+            },
+            Err(fem::RunError::Interrupted {
+                step,
+                time_s,
+                partial,
+            }) => Ended::Early {
+                step,
+                time_s,
+                where_: None,
+                partial: *partial,
+            },
+            Err(e) => Ended::Failed(e.into()),
+        }
+    }
+
+    fn write(out: &fem::RunOutput, dir: &Path) -> std::io::Result<Vec<std::path::PathBuf>> {
+        fem::write_csv(out, dir)
+    }
+
+    fn warnings(&self, label: &str, out: &fem::RunOutput) -> Vec<String> {
+        let dropped = out.record().dropped_contacts;
+        if dropped == 0 {
+            return Vec::new();
+        }
+        vec![format!(
+            "{label}: {dropped} contacts lost because a penetration exceeded the detection distance \
+             fem.max_gap = {} m; raise it or stiffen fem.eps_n",
+            self.fem.max_gap
+        )]
+    }
+}
+
+impl Model for spectral::Scene {
+    type Output = spectral::RunOutput;
+
+    fn run_scene(&self, progress: &mut dyn FnMut(u64, u64), stop: &AtomicBool) -> Ended<spectral::RunOutput> {
+        match spectral::run_with_progress(self, progress, stop) {
+            Ok(out) => Ended::Completed(out),
+            Err(spectral::RunError::Unstable {
+                step,
+                time_s,
+                location,
+                partial,
+            }) => Ended::Early {
+                step,
+                time_s,
+                where_: Some(location),
+                partial: *partial,
+            },
+            Err(spectral::RunError::Interrupted {
+                step,
+                time_s,
+                partial,
+            }) => Ended::Early {
+                step,
+                time_s,
+                where_: None,
+                partial: *partial,
+            },
+            Err(e) => Ended::Failed(e.into()),
+        }
+    }
+
+    fn write(out: &spectral::RunOutput, dir: &Path) -> std::io::Result<Vec<std::path::PathBuf>> {
+        spectral::write_csv(out, dir)
+    }
+}
+
+/// Runs a job of either model. An unstable run ends with `failure` saying when and where, and its
+/// partial output written; a run stopped on request writes its partial output and stops the
+/// study with an error saying where it went; other errors stop the study.
+pub fn run<M: Model>(job: Job<M>, rep: &dyn Reporter) -> Result<Finished<M::Output>> {
     let Job {
         scene,
         label,
@@ -143,38 +265,33 @@ pub fn run_fem(job: Job<fem::Scene>, rep: &dyn Reporter) -> Result<Finished<fem:
     } = job;
     let mut progress = rep.run_started(label);
     let start = Instant::now();
-    let result = fem::run_with_progress(scene, &mut *progress, rep.stop());
+    let ended = scene.run_scene(&mut *progress, rep.stop());
     let wall_s = start.elapsed().as_secs_f64();
-    let (out, failure) = match result {
-        Ok(out) => (out, None),
-        Err(fem::RunError::Unstable {
+    let write =
+        |out: &M::Output| M::write(out, dir).with_context(|| format!("{label}: writing {}", dir.display()));
+    let (out, failure) = match ended {
+        Ended::Completed(out) => (out, None),
+        Ended::Early {
             step,
             time_s,
-            location,
+            where_: Some(location),
             partial,
-        }) => (*partial, Some(unstable(label, dir, step, time_s, &location))),
-        Err(fem::RunError::Interrupted {
+        } => (partial, Some(unstable(label, dir, step, time_s, &location))),
+        Ended::Early {
             step,
             time_s,
+            where_: None,
             partial,
-        }) => {
-            fem::write_csv(&partial, dir).with_context(|| format!("{label}: writing {}", dir.display()))?;
+        } => {
+            write(&partial)?;
             return Err(interrupted(label, dir, step, time_s));
         }
-        Err(e) => return Err(e).context(label.to_string()),
+        Ended::Failed(e) => return Err(e).context(label.to_string()),
     };
     if keep.writes(failure.is_some()) {
-        fem::write_csv(&out, dir).with_context(|| format!("{label}: writing {}", dir.display()))?;
+        write(&out)?;
     }
-    let mut warnings = Vec::new();
-    let dropped = out.record().dropped_contacts;
-    if dropped > 0 {
-        warnings.push(format!(
-            "{label}: {dropped} contacts lost because a penetration exceeded the detection distance \
-             fem.max_gap = {} m; raise it or stiffen fem.eps_n",
-            scene.fem.max_gap
-        ));
-    }
+    let warnings = scene.warnings(label, &out);
     Ok(Finished {
         out,
         wall_s,
@@ -183,46 +300,14 @@ pub fn run_fem(job: Job<fem::Scene>, rep: &dyn Reporter) -> Result<Finished<fem:
     })
 }
 
-/// Runs a spectral job, as [`run_fem`].
+/// Runs an FE job ([`run`]).
+pub fn run_fem(job: Job<fem::Scene>, rep: &dyn Reporter) -> Result<Finished<fem::RunOutput>> {
+    run(job, rep)
+}
+
+/// Runs a spectral job ([`run`]).
 pub fn run_spectral(job: Job<spectral::Scene>, rep: &dyn Reporter) -> Result<Finished<spectral::RunOutput>> {
-    let Job {
-        scene,
-        label,
-        dir,
-        keep,
-    } = job;
-    let mut progress = rep.run_started(label);
-    let start = Instant::now();
-    let result = spectral::run_with_progress(scene, &mut *progress, rep.stop());
-    let wall_s = start.elapsed().as_secs_f64();
-    let (out, failure) = match result {
-        Ok(out) => (out, None),
-        Err(spectral::RunError::Unstable {
-            step,
-            time_s,
-            location,
-            partial,
-        }) => (*partial, Some(unstable(label, dir, step, time_s, &location))),
-        Err(spectral::RunError::Interrupted {
-            step,
-            time_s,
-            partial,
-        }) => {
-            spectral::write_csv(&partial, dir)
-                .with_context(|| format!("{label}: writing {}", dir.display()))?;
-            return Err(interrupted(label, dir, step, time_s));
-        }
-        Err(e) => return Err(e).context(label.to_string()),
-    };
-    if keep.writes(failure.is_some()) {
-        spectral::write_csv(&out, dir).with_context(|| format!("{label}: writing {}", dir.display()))?;
-    }
-    Ok(Finished {
-        out,
-        wall_s,
-        failure,
-        warnings: Vec::new(),
-    })
+    run(job, rep)
 }
 
 /// A model's tip records as harness rows (both crates' `TipRecord`s have the same fields).

@@ -3,50 +3,34 @@
 //! reports every problem at once with the key and the line of the user's file. "No step ran":
 //! the output folder is never created and nothing is printed on stdout.
 
-use std::path::{Path, PathBuf};
+use preflight::testing::{Trial, line_containing as line_of, scene_text as scene_in};
 use std::process::Command;
 
 fn scene_text(name: &str) -> String {
-    std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../scenes/{name}.toml")))
-        .unwrap()
+    scene_in(env!("CARGO_MANIFEST_DIR"), name)
 }
 
-fn scratch(test: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("compare-bad-input-{test}"));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn trial(name: &str, text: &str) -> Trial {
+    Trial::new(
+        env!("CARGO_TARGET_TMPDIR"),
+        &format!("compare-bad-input-{name}"),
+        text,
+    )
 }
 
-/// Runs `compare [job] --scene <text> --out <dir>/out [extra]`; asserts it failed before any step
-/// and returns its stderr.
-fn refused(test: &str, job: &[&str], text: &str, extra: &[&str]) -> String {
-    let dir = scratch(test);
-    let scene = dir.join("scene.toml");
-    std::fs::write(&scene, text).unwrap();
-    let out = dir.join("out");
-    let o = Command::new(env!("CARGO_BIN_EXE_compare"))
-        .args(job)
-        .arg("--scene")
-        .arg(&scene)
-        .arg("--out")
-        .arg(&out)
-        .args(extra)
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&o.stderr).into_owned();
-    assert!(!o.status.success(), "accepted: {stderr}");
-    assert!(
-        o.stdout.is_empty(),
-        "started: {}",
-        String::from_utf8_lossy(&o.stdout)
-    );
-    assert!(!out.exists(), "the output folder was created");
-    stderr
-}
-
-fn line_of(text: &str, needle: &str) -> usize {
-    text.lines().position(|l| l.contains(needle)).unwrap() + 1
+/// Runs `compare [job] --scene <text> --out <trial out> [extra]`; asserts it was refused before
+/// any step and returns its stderr.
+fn refused(name: &str, job: &[&str], text: &str, extra: &[&str]) -> String {
+    let t = trial(name, text);
+    t.refused(
+        Command::new(env!("CARGO_BIN_EXE_compare"))
+            .args(job)
+            .arg("--scene")
+            .arg(&t.scene)
+            .arg("--out")
+            .arg(&t.out)
+            .args(extra),
+    )
 }
 
 #[test]
@@ -136,32 +120,22 @@ fn a_study_beyond_the_budget_is_refused_before_its_first_run() {
 
 #[test]
 fn empty_and_unwritable_output_folders_are_refused_before_any_step() {
-    let dir = scratch("paths");
-    let scene = dir.join("scene.toml");
-    std::fs::write(&scene, scene_text("center-crack")).unwrap();
-    let o = Command::new(env!("CARGO_BIN_EXE_compare"))
-        .arg("--scene")
-        .arg(&scene)
-        .args(["--out", ""])
-        .output()
-        .unwrap();
-    let e = String::from_utf8_lossy(&o.stderr);
-    assert!(
-        !o.status.success() && e.contains("--out") && o.stdout.is_empty(),
-        "{e}"
+    let t = trial("empty-out", &scene_text("center-crack"));
+    let e = t.refused(
+        Command::new(env!("CARGO_BIN_EXE_compare"))
+            .arg("--scene")
+            .arg(&t.scene)
+            .args(["--out", ""]),
     );
-    let blocker = dir.join("a-file");
-    std::fs::write(&blocker, "").unwrap();
-    let o = Command::new(env!("CARGO_BIN_EXE_compare"))
-        .arg("--scene")
-        .arg(&scene)
-        .arg("--out")
-        .arg(blocker.join("out"))
-        .output()
-        .unwrap();
-    let e = String::from_utf8_lossy(&o.stderr);
-    assert!(
-        !o.status.success() && e.contains("output folder") && o.stdout.is_empty(),
-        "{e}"
+    assert!(e.contains("--out"), "{e}");
+    let t = trial("unwritable", &scene_text("center-crack"));
+    std::fs::write(t.dir.join("a-file"), "").unwrap();
+    let e = t.refused(
+        Command::new(env!("CARGO_BIN_EXE_compare"))
+            .arg("--scene")
+            .arg(&t.scene)
+            .arg("--out")
+            .arg(t.dir.join("a-file").join("out")),
     );
+    assert!(e.contains("output folder"), "{e}");
 }

@@ -79,6 +79,15 @@ impl SceneError {
     }
 }
 
+impl From<preflight::Refused> for SceneError {
+    fn from(r: preflight::Refused) -> SceneError {
+        match r {
+            preflight::Refused::Parse(m) => SceneError::Parse(m),
+            preflight::Refused::Invalid(problems) => SceneError::Invalid { problems },
+        }
+    }
+}
+
 /// The model cannot be built from a valid scene (degenerate element, ...).
 #[derive(Debug, Error)]
 pub enum BuildError {

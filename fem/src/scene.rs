@@ -55,15 +55,7 @@ impl Scene {
     /// keys included, each naming the key as written, its line in `text`, the value and what is
     /// allowed (`SceneError::Invalid`).
     pub fn from_toml_str(text: &str) -> Result<Scene, SceneError> {
-        let (raw, unknown) = preflight::parse::<RawScene>(text).map_err(SceneError::Parse)?;
-        let mut problems = preflight::unknown_keys(unknown);
-        match validate(raw) {
-            Ok(scene) if problems.is_empty() => return Ok(scene),
-            Ok(_) => {}
-            Err(e) => problems.extend(e.problems()),
-        }
-        preflight::locate(text, &mut problems);
-        Err(SceneError::Invalid { problems })
+        preflight::read(text, validate, SceneError::problems).map_err(SceneError::from)
     }
 
     /// The same scene with another edit of its raw form, validated again.

@@ -70,6 +70,35 @@ pub fn unknown_keys(unknown: Vec<String>) -> Vec<Problem> {
         .collect()
 }
 
+/// Why a scene file was refused.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Refused {
+    /// The text does not parse or a value has the wrong type (the message has the line).
+    Parse(String),
+    /// Every problem found, unknown keys included, located on their lines and in file order.
+    Invalid(Vec<Problem>),
+}
+
+/// Reads a scene the way every model does: parses `text` into its raw form `R` collecting unknown
+/// keys, validates it with `validate` (which reports what it finds through `problems`), and
+/// refuses the file with every problem at once, each on its line. A file with unknown keys is
+/// refused even when its values are valid.
+pub fn read<R: DeserializeOwned, S, E>(
+    text: &str,
+    validate: impl FnOnce(R) -> Result<S, E>,
+    problems: impl FnOnce(&E) -> Vec<Problem>,
+) -> Result<S, Refused> {
+    let (raw, unknown) = parse::<R>(text).map_err(Refused::Parse)?;
+    let mut all = unknown_keys(unknown);
+    match validate(raw) {
+        Ok(scene) if all.is_empty() => return Ok(scene),
+        Ok(_) => {}
+        Err(e) => all.extend(problems(&e)),
+    }
+    locate(text, &mut all);
+    Err(Refused::Invalid(all))
+}
+
 /// Sets each problem's line from `text` and sorts them in the order of the file (problems with no
 /// line last, in the order given).
 pub fn locate(text: &str, problems: &mut [Problem]) {

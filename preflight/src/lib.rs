@@ -5,14 +5,19 @@
 //! - [`budget`]: memory and step estimates against a budget, refused with the key to change;
 //! - [`paths`]: output folders that stay where they are asked to be, and are writable before any
 //!   work;
-//! - [`stop`] (feature `signals`): Ctrl-C and SIGTERM stop a run at its next step.
+//! - [`stop`] and [`options`] (feature `cli`): Ctrl-C and SIGTERM stop a run at its next step;
+//!   the command-line options every command shares.
 #![warn(missing_docs)]
 
 pub mod budget;
 pub mod file;
+#[cfg(feature = "cli")]
+pub mod options;
 pub mod paths;
-#[cfg(feature = "signals")]
+#[cfg(feature = "cli")]
 pub mod stop;
+#[cfg(feature = "testing")]
+pub mod testing;
 
 pub use budget::{Budget, Estimate, Part};
-pub use file::{Problem, line_of, locate, parse, problems_text, unknown_keys};
+pub use file::{Problem, Refused, line_of, locate, parse, problems_text, read, unknown_keys};

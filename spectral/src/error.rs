@@ -55,6 +55,15 @@ impl SceneError {
     }
 }
 
+impl From<preflight::Refused> for SceneError {
+    fn from(r: preflight::Refused) -> SceneError {
+        match r {
+            preflight::Refused::Parse(m) => SceneError::Parse(m),
+            preflight::Refused::Invalid(problems) => SceneError::Invalid { problems },
+        }
+    }
+}
+
 /// A failure while building the model from a valid scene.
 #[derive(Debug, thiserror::Error)]
 pub enum BuildError {

@@ -193,15 +193,7 @@ impl Scene {
     /// otherwise every problem found is reported at once (`SceneError::Invalid`), unknown keys
     /// included, each naming the key as written, its line in `text` and what is allowed.
     pub fn from_toml_str(text: &str) -> Result<Scene, SceneError> {
-        let (raw, unknown) = preflight::parse::<RawScene>(text).map_err(SceneError::Parse)?;
-        let mut problems = preflight::unknown_keys(unknown);
-        match validate(raw) {
-            Ok(scene) if problems.is_empty() => return Ok(scene),
-            Ok(_) => {}
-            Err(e) => problems.extend(e.problems()),
-        }
-        preflight::locate(text, &mut problems);
-        Err(SceneError::Invalid { problems })
+        preflight::read(text, validate, SceneError::problems).map_err(SceneError::from)
     }
 
     /// The same scene with another edit of its raw form, validated again.

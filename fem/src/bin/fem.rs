@@ -4,7 +4,6 @@
 use anyhow::{Context, Result, anyhow, bail};
 use clap::Parser;
 use indicatif::{ProgressBar, ProgressStyle};
-use preflight::budget::{DEFAULT_MAX_BYTES, DEFAULT_MAX_STEPS};
 use std::path::PathBuf;
 
 /// Runs one scene with the hybrid (or standard) cohesive-contact FE model and writes its records
@@ -16,15 +15,8 @@ use std::path::PathBuf;
 struct Cli {
     /// Scene file (TOML; see docs/scenes.md for every key).
     scene: PathBuf,
-    /// Output folder (default: out/fem-<scene file name>/).
-    #[arg(long, value_name = "DIR")]
-    out: Option<PathBuf>,
-    /// Memory budget [GiB]: a run estimated above it is refused before it starts.
-    #[arg(long, value_name = "GIB", default_value_t = (DEFAULT_MAX_BYTES >> 30) as f64)]
-    max_memory: f64,
-    /// Time-step budget: a run needing more steps is refused before it starts.
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_STEPS)]
-    max_steps: u64,
+    #[command(flatten)]
+    run: preflight::options::RunOptions,
 }
 
 fn main() -> Result<()> {
@@ -32,14 +24,11 @@ fn main() -> Result<()> {
     let text =
         std::fs::read_to_string(&cli.scene).with_context(|| format!("reading {}", cli.scene.display()))?;
     let scene = fem::Scene::from_toml_str(&text).with_context(|| format!("scene {}", cli.scene.display()))?;
-    let out_dir = match &cli.out {
-        Some(dir) => preflight::paths::explicit(dir)
-            .map_err(|e| anyhow!(e))?
-            .to_path_buf(),
-        None => PathBuf::from("out").join(format!("fem-{}", stem(&cli.scene))),
-    };
+    let out_dir = cli.run.out_dir("fem", &cli.scene).map_err(|e| anyhow!(e))?;
     let estimate = fem::estimate(&scene);
-    preflight::Budget::new(cli.max_memory, cli.max_steps)
+    cli.run
+        .budget
+        .budget()
         .check(&estimate)
         .map_err(|e| anyhow!("scene {}: {e}", cli.scene.display()))?;
     preflight::paths::claim(&out_dir, "fem").map_err(|e| anyhow!(e))?;
@@ -112,13 +101,4 @@ fn main() -> Result<()> {
         bail!("{msg}; the output up to there is in {}", out_dir.display());
     }
     Ok(())
-}
-
-/// The scene file's name without extension, as a folder name.
-fn stem(path: &std::path::Path) -> String {
-    preflight::paths::folder_name(
-        &path
-            .file_stem()
-            .map_or(String::new(), |s| s.to_string_lossy().into_owned()),
-    )
 }

@@ -6,7 +6,6 @@ use std::path::PathBuf;
 use anyhow::{Context, anyhow};
 use clap::Parser;
 use indicatif::{ProgressBar, ProgressStyle};
-use preflight::budget::{DEFAULT_MAX_BYTES, DEFAULT_MAX_STEPS};
 
 /// Runs one scene with the spectral boundary-integral model of an interface between identical
 /// half-spaces and writes its records as CSV (tips, contact means, space-time fields). A run that
@@ -16,15 +15,8 @@ use preflight::budget::{DEFAULT_MAX_BYTES, DEFAULT_MAX_STEPS};
 struct Cli {
     /// Scene file (TOML; see docs/scenes.md for every key).
     scene: PathBuf,
-    /// Output folder (default: out/spectral-<scene file name>/).
-    #[arg(long, value_name = "DIR")]
-    out: Option<PathBuf>,
-    /// Memory budget [GiB]: a run estimated above it is refused before it starts.
-    #[arg(long, value_name = "GIB", default_value_t = (DEFAULT_MAX_BYTES >> 30) as f64)]
-    max_memory: f64,
-    /// Time-step budget: a run needing more steps is refused before it starts.
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_STEPS)]
-    max_steps: u64,
+    #[command(flatten)]
+    run: preflight::options::RunOptions,
 }
 
 fn main() -> anyhow::Result<()> {
@@ -34,19 +26,11 @@ fn main() -> anyhow::Result<()> {
         std::fs::read_to_string(scene_path).with_context(|| format!("reading {}", scene_path.display()))?;
     let scene =
         spectral::Scene::from_toml_str(&text).with_context(|| format!("scene {}", scene_path.display()))?;
-    let out_dir = match &cli.out {
-        Some(dir) => preflight::paths::explicit(dir)
-            .map_err(|e| anyhow!(e))?
-            .to_path_buf(),
-        None => {
-            let stem = scene_path
-                .file_stem()
-                .map_or(String::new(), |s| s.to_string_lossy().into_owned());
-            PathBuf::from("out").join(format!("spectral-{}", preflight::paths::folder_name(&stem)))
-        }
-    };
+    let out_dir = cli.run.out_dir("spectral", scene_path).map_err(|e| anyhow!(e))?;
     let estimate = spectral::estimate(&scene).with_context(|| format!("scene {}", scene_path.display()))?;
-    preflight::Budget::new(cli.max_memory, cli.max_steps)
+    cli.run
+        .budget
+        .budget()
         .check(&estimate)
         .map_err(|e| anyhow!("scene {}: {e}", scene_path.display()))?;
     preflight::paths::claim(&out_dir, "spectral").map_err(|e| anyhow!(e))?;

@@ -168,7 +168,7 @@ fn standard_against_hybrid_on_the_sinusoidal_interface() {
     // paper Figure 12: residual stress while the crack is arrested at the strong interface with
     // its weak faces in contact — from the later of the two "weak branch cracked" times to the
     // earlier of the two "entered the strong interface" times (later, the standard run is no
-    // longer energy-consistent: README)
+    // longer energy-consistent: docs/results.md)
     let t0 = std_s.t_weak_cracked.max(hyb_s.t_weak_cracked);
     let t1 = std_s.t_strong_entered.min(hyb_s.t_strong_entered);
     let (rs_std, rs_hyb) = (

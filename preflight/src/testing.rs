@@ -1,0 +1,62 @@
+//! Helpers of the command-line tests (feature `testing`, for dev-dependencies only): a scratch
+//! folder with the scene written into it, and the check that a command refused its input before
+//! any time step — non-zero exit, nothing on stdout (every command prints its plan only once its
+//! checks have passed), no output folder.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The text of `scenes/<name>.toml` of the workspace whose member lives at `manifest_dir`.
+pub fn scene_text(manifest_dir: &str, name: &str) -> String {
+    let path = Path::new(manifest_dir).join(format!("../scenes/{name}.toml"));
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// Line (1-based) of the first line of `text` that contains `needle`.
+pub fn line_containing(text: &str, needle: &str) -> usize {
+    text.lines()
+        .position(|l| l.contains(needle))
+        .unwrap_or_else(|| panic!("{needle} not in the scene"))
+        + 1
+}
+
+/// One trial of a command: a fresh folder holding `scene.toml`; `out` is the output folder to
+/// pass (not created).
+pub struct Trial {
+    /// The folder of the trial.
+    pub dir: PathBuf,
+    /// The scene file.
+    pub scene: PathBuf,
+    /// The output folder to give the command.
+    pub out: PathBuf,
+}
+
+impl Trial {
+    /// A trial named `name` under `root` (the test's `CARGO_TARGET_TMPDIR`) with scene `text`.
+    pub fn new(root: &str, name: &str, text: &str) -> Trial {
+        let dir = Path::new(root).join(name);
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let scene = dir.join("scene.toml");
+        std::fs::write(&scene, text).unwrap();
+        Trial {
+            out: dir.join("out"),
+            scene,
+            dir,
+        }
+    }
+
+    /// Runs `cmd`, asserts it was refused before any step and returns its stderr.
+    pub fn refused(&self, cmd: &mut Command) -> String {
+        let o = cmd.output().unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(!o.status.success(), "accepted: {stderr}");
+        assert!(
+            o.stdout.is_empty(),
+            "started: {}",
+            String::from_utf8_lossy(&o.stdout)
+        );
+        assert!(!self.out.exists(), "the output folder was created: {stderr}");
+        stderr
+    }
+}
