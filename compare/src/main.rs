@@ -95,6 +95,10 @@ impl Reporter for Bars {
         self.1
     }
 
+    fn planned(&self, plan: &compare::runner::Plan) {
+        println!("{plan}");
+    }
+
     fn run_started(&self, label: &str) -> Box<dyn FnMut(u64, u64) + Send + '_> {
         let style =
             ProgressStyle::with_template("{prefix} [{bar:40}] {pos}/{len} steps ({elapsed}, eta {eta})")
@@ -279,7 +283,7 @@ fn real_main() -> Result<bool> {
 
 fn run_sweep(study: &Study, scene: &Path, dir: &Path) -> Result<bool> {
     let points = sweep::plan(study)?;
-    sweep::preflight(study, &points, dir)?;
+    println!("{}", sweep::preflight(study, &points, dir)?);
     let exe = std::env::current_exe().context("locating the compare executable")?;
     let bar = ProgressBar::new(points.len() as u64).with_style(
         ProgressStyle::with_template("sweep [{bar:40}] {pos}/{len} points ({elapsed}) {msg}")

@@ -16,6 +16,9 @@ pub trait Reporter: Sync {
     /// A run labelled `label` starts; returns its callback `(steps_done, total_steps)`.
     fn run_started(&self, label: &str) -> Box<dyn FnMut(u64, u64) + Send + '_>;
 
+    /// A study's runs have passed every check: `plan` says how many, how long and how big.
+    fn planned(&self, _plan: &Plan) {}
+
     /// The flag that stops the runs at their next step (never raised by default).
     fn stop(&self) -> &AtomicBool {
         static NEVER: AtomicBool = AtomicBool::new(false);
@@ -41,27 +44,59 @@ pub fn preflight(
     fem_runs: &[(&str, &fem::Scene)],
     spectral_runs: &[(&str, &spectral::Scene)],
     dir: &Path,
-) -> Result<()> {
+) -> Result<Plan> {
     let mut problems = Vec::new();
+    let mut estimates = Vec::new();
     for (label, scene) in fem_runs {
-        if let Err(e) = study.budget.check(&fem::estimate(scene)) {
-            problems.push(format!("{label}: {e}"));
-        }
+        estimates.push((*label, fem::estimate(scene)));
     }
     for (label, scene) in spectral_runs {
         match spectral::estimate(scene) {
-            Ok(estimate) => {
-                if let Err(e) = study.budget.check(&estimate) {
-                    problems.push(format!("{label}: {e}"));
-                }
-            }
+            Ok(e) => estimates.push((*label, e)),
             Err(e) => problems.push(format!("{label}: {e}")),
+        }
+    }
+    for (label, e) in &estimates {
+        if let Err(e) = study.budget.check(e) {
+            problems.push(format!("{label}: {e}"));
         }
     }
     if !problems.is_empty() {
         anyhow::bail!("{}", problems.join("\n"));
     }
-    preflight::paths::claim(dir, "compare").map_err(|e| anyhow::anyhow!(e))
+    preflight::paths::claim(dir, "compare").map_err(|e| anyhow::anyhow!(e))?;
+    Ok(Plan {
+        runs: estimates.len(),
+        steps: estimates.iter().map(|(_, e)| e.steps).sum(),
+        seconds: estimates.iter().map(|(_, e)| e.seconds).sum(),
+        largest_bytes: estimates.iter().map(|(_, e)| e.bytes()).max().unwrap_or(0),
+    })
+}
+
+/// The runs of a study, once checked.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Plan {
+    /// Number of runs.
+    pub runs: usize,
+    /// Time steps of all runs [-].
+    pub steps: u64,
+    /// Expected wall time of all runs on 2 cores [s].
+    pub seconds: f64,
+    /// Memory of the largest run (they run one after the other) [B].
+    pub largest_bytes: u64,
+}
+
+impl std::fmt::Display for Plan {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} runs, {} steps, at most {} of memory, about {} on 2 cores",
+            self.runs,
+            self.steps,
+            preflight::budget::human(self.largest_bytes),
+            preflight::budget::duration(self.seconds)
+        )
+    }
 }
 
 /// How a run ended.

@@ -26,6 +26,8 @@ pub struct Estimate {
     pub steps: u64,
     /// The keys that set the number of steps, as advice (`loading.duration, fem.element_size`).
     pub steps_keys: &'static str,
+    /// Expected wall time on the 2-core machine the constants were measured on [s].
+    pub seconds: f64,
     /// The parts of its memory.
     pub parts: Vec<Part>,
 }
@@ -36,9 +38,15 @@ impl Estimate {
         self.parts.iter().fold(0u64, |s, p| s.saturating_add(p.bytes))
     }
 
-    /// "12 345 steps, 1.2 GiB" — what a command prints before it starts.
+    /// "13087 steps, about 62.5 MiB of memory, about 17 s on 2 cores" — what a command prints
+    /// before it starts.
     pub fn summary(&self) -> String {
-        format!("{} steps, about {} of memory", self.steps, human(self.bytes()))
+        format!(
+            "{} steps, about {} of memory, about {} on 2 cores",
+            self.steps,
+            human(self.bytes()),
+            duration(self.seconds)
+        )
     }
 
     fn largest(&self) -> Option<&Part> {
@@ -104,7 +112,7 @@ impl Budget {
     }
 }
 
-/// Bytes in binary units, 3 significant figures ("1.25 GiB", "512 KiB").
+/// Bytes in binary units, 3 significant figures ("1.25 GiB", "606 KiB", "8 GiB").
 pub fn human(bytes: u64) -> String {
     const UNITS: [&str; 6] = ["B", "KiB", "MiB", "GiB", "TiB", "PiB"];
     let mut v = bytes as f64;
@@ -114,9 +122,35 @@ pub fn human(bytes: u64) -> String {
         u += 1;
     }
     if u == 0 {
-        format!("{bytes} B")
+        return format!("{bytes} B");
+    }
+    // three significant figures, trailing zeros dropped
+    let digits = if v >= 100.0 {
+        0
+    } else if v >= 10.0 {
+        1
     } else {
-        format!("{v:.3} {}", UNITS[u]).replace(".000 ", " ")
+        2
+    };
+    let number = format!("{v:.digits$}");
+    let number = if number.contains('.') {
+        number.trim_end_matches('0').trim_end_matches('.')
+    } else {
+        &number
+    };
+    format!("{number} {}", UNITS[u])
+}
+
+/// Seconds in words, 2 significant figures ("17 s", "4.2 min", "3.1 h").
+pub fn duration(seconds: f64) -> String {
+    if !seconds.is_finite() {
+        "forever".to_string()
+    } else if seconds < 90.0 {
+        format!("{seconds:.0} s")
+    } else if seconds < 5400.0 {
+        format!("{:.1} min", seconds / 60.0)
+    } else {
+        format!("{:.1} h", seconds / 3600.0)
     }
 }
 
@@ -135,6 +169,7 @@ mod tests {
         Estimate {
             steps,
             steps_keys: "loading.duration",
+            seconds: 1.0,
             parts: vec![
                 Part {
                     what: "state".into(),
@@ -172,8 +207,13 @@ mod tests {
     fn sizes_read_as_written() {
         assert_eq!(human(512), "512 B");
         assert_eq!(human(8 << 30), "8 GiB");
-        assert_eq!(human(1536 << 20), "1.500 GiB");
+        assert_eq!(human(1536 << 20), "1.5 GiB");
+        assert_eq!(human(620_521), "606 KiB");
+        assert_eq!(human(84_634_000), "80.7 MiB");
         assert_eq!(bytes_of(f64::INFINITY, 8), u64::MAX);
         assert_eq!(bytes_of(1e30, 8), u64::MAX);
+        assert_eq!(duration(17.2), "17 s");
+        assert_eq!(duration(252.0), "4.2 min");
+        assert_eq!(duration(11_160.0), "3.1 h");
     }
 }

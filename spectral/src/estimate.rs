@@ -24,6 +24,14 @@ const BYTES_PER_POINT: usize = 512;
 /// (48), recursion state (128) [B].
 const FAST_BYTES_PER_TERM: usize = 16 + 48 + 128;
 
+/// Wall time per grid point and step of the fast path on 2 cores [s]. Measured on the centre
+/// crack (`compare sweep`): 6.8e-8 at N = 2048, 7.6e-8 at 4096, 7.2e-8 at 8192.
+const SECONDS_PER_POINT_STEP: f64 = 8e-8;
+
+/// Bytes of history the direct path streams per second on 2 cores [B/s] (it is bound by memory
+/// bandwidth; spectral/README.md, "Direct versus fast convolution").
+const DIRECT_BYTES_PER_SECOND: f64 = 5e9;
+
 /// Steps and memory of a run of `scene` (docs/outputs.md, "Budgets").
 pub fn estimate(scene: &Scene) -> Result<Estimate, BuildError> {
     let n = scene.grid_points;
@@ -35,24 +43,30 @@ pub fn estimate(scene: &Scene) -> Result<Estimate, BuildError> {
         scene.kernel_cutoff,
         usize::try_from(steps).unwrap_or(usize::MAX),
     );
-    let history = match scene.convolution {
-        Convolution::Direct => Part {
-            what: format!("history ({} stored steps over all modes)", modes.total),
-            bytes: bytes_of(modes.total as f64, size_of::<Entry>() + size_of::<[f64; 3]>())
-                .saturating_add(bytes_of(modes.max_sample() as f64 + 1.0, size_of::<[f64; 3]>())),
-            key: "spectral.convolution",
-        },
+    let per_step = n as f64 * SECONDS_PER_POINT_STEP;
+    let (history, seconds_per_step) = match scene.convolution {
+        Convolution::Direct => {
+            let streamed = modes.total as f64 * (size_of::<Entry>() + size_of::<[f64; 3]>()) as f64;
+            let part = Part {
+                what: format!("history ({} stored steps over all modes)", modes.total),
+                bytes: bytes_of(modes.total as f64, size_of::<Entry>() + size_of::<[f64; 3]>())
+                    .saturating_add(bytes_of(modes.max_sample() as f64 + 1.0, size_of::<[f64; 3]>())),
+                key: "spectral.convolution",
+            };
+            (part, per_step + streamed / DIRECT_BYTES_PER_SECOND)
+        }
         Convolution::Fast => {
             let fit = SoeFit::shared(
                 &Kernels::new(scene.eta(), scene.kernel_cutoff),
                 scene.kernel_cutoff,
                 scene.fast_tolerance,
             )?;
-            Part {
+            let part = Part {
                 what: format!("convolution ({} exponential terms per mode)", fit.terms()),
                 bytes: bytes_of((n / 2 + 1) as f64 * fit.poles.len() as f64, FAST_BYTES_PER_TERM),
                 key: "spectral.grid_points",
-            }
+            };
+            (part, per_step)
         }
     };
     let samples = |interval: f64| (scene.duration / interval).floor() + 2.0;
@@ -62,6 +76,7 @@ pub fn estimate(scene: &Scene) -> Result<Estimate, BuildError> {
     Ok(Estimate {
         steps,
         steps_keys: "loading.duration, spectral.grid_points or spectral.cs_dt_over_dx",
+        seconds: steps as f64 * seconds_per_step,
         parts: vec![
             Part {
                 what: format!("grid ({n} points)"),

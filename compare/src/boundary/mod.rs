@@ -92,7 +92,7 @@ pub fn run_study(study: &Study, boxes: &[u32], dir: &Path, rep: &dyn Reporter) -
         .zip(&plans)
         .flat_map(|((_, ls), (_, _, fems))| ls.iter().zip(fems).map(|(l, (_, _, s))| (l.as_str(), s)))
         .collect();
-    preflight(study, &fems, &spectrals, dir)?;
+    rep.planned(&preflight(study, &fems, &spectrals, dir)?);
     let case = study.case();
     let scales = CaseScales {
         half_length: case.half_length,

@@ -86,7 +86,7 @@ pub fn run_gate(study: &Study, tol: &Tolerances, dir: &Path, rep: &dyn Reporter)
         .zip(&plans)
         .map(|(l, p)| (l.as_str(), &p.spectral))
         .collect();
-    preflight(study, &fems, &spectrals, dir)?;
+    rep.planned(&preflight(study, &fems, &spectrals, dir)?);
     let case = study.case();
     let mu_detail = plans.iter().map(|p| p.mu).fold(f64::MIN, f64::max);
     let (mut runs, mut files, mut detail, mut warnings) = (Vec::new(), Vec::new(), None, Vec::new());

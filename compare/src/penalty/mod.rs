@@ -62,7 +62,7 @@ pub fn run_study(study: &Study, factors: &[u32], dir: &Path, rep: &dyn Reporter)
         .zip(&plans)
         .map(|(l, (_, s))| (l.as_str(), s))
         .collect();
-    preflight(study, &fems, &[], dir)?;
+    rep.planned(&preflight(study, &fems, &[], dir)?);
     let (mut faces, mut means, mut summaries, mut warnings) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for (factor, scene) in &plans {

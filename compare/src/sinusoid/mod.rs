@@ -50,7 +50,7 @@ pub fn run_study(study: &Study, dir: &Path, rep: &dyn Reporter) -> Result<Sinuso
         })
         .collect::<Result<Vec<_>>>()?;
     let fems: Vec<(&str, &fem::Scene)> = scenes.iter().map(|(l, s)| (*l, s)).collect();
-    preflight(study, &fems, &[], dir)?;
+    rep.planned(&preflight(study, &fems, &[], dir)?);
     let (mut runs, mut warnings) = (Vec::new(), Vec::new());
     for (model, scene) in &scenes {
         let sub = dir.join(model);

@@ -92,7 +92,11 @@ pub fn plan(study: &Study) -> Result<Vec<(Model, f64, Study)>> {
 
 /// Every point of `plan` against the study's budget, and the output folder claimed, before the
 /// first child starts.
-pub fn preflight(study: &Study, plan: &[(Model, f64, Study)], dir: &std::path::Path) -> Result<()> {
+pub fn preflight(
+    study: &Study,
+    plan: &[(Model, f64, Study)],
+    dir: &std::path::Path,
+) -> Result<crate::runner::Plan> {
     let labels: Vec<String> = plan
         .iter()
         .map(|(m, h, _)| format!("sweep {} h = {h} m", m.tag()))
