@@ -250,6 +250,8 @@ pub struct RunOutput {
     pub time_step: f64,
     /// Steps done.
     pub steps: u64,
+    /// Bulk elements of the mesh.
+    pub elements: usize,
     /// `hybrid` or `standard`.
     pub model: String,
     /// Whether the Westergaard field had the lateral-contraction term.
@@ -284,10 +286,9 @@ pub struct RunOutput {
     pub profiles: Vec<ProfileRecord>,
     /// Times at which the snapshots were taken [s] (first sample at or after each requested time).
     pub snapshot_times: Vec<f64>,
-    /// Wall time in cohesive work (law + insertion) [s].
-    pub cohesive_seconds: f64,
-    /// Wall time in contact [s].
-    pub contact_seconds: f64,
+    /// Wall time per phase of the step and the loop (profiling; differs between runs, so it is
+    /// printed, never written).
+    pub profile: Vec<crate::solver::profile::PhaseTime>,
 }
 
 impl RunOutput {

@@ -79,12 +79,12 @@ fn main() -> Result<()> {
     let files =
         fem::write_csv(&output, &out_dir).with_context(|| format!("writing {}", out_dir.display()))?;
     println!(
-        "{} steps, dt = {:.4e} s, wall {:.1} s (cohesive {:.1} s, contact {:.1} s)",
+        "{} steps, dt = {:.4e} s, wall {:.1} s on {} thread(s); where the time went:\n{}",
         output.steps,
         output.time_step,
         started.elapsed().as_secs_f64(),
-        output.cohesive_seconds,
-        output.contact_seconds
+        rayon::current_num_threads(),
+        fem::solver::profile::table(&output.profile, output.steps, output.elements)
     );
     for f in files {
         println!("wrote {}", f.display());

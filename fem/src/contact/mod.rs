@@ -13,6 +13,7 @@ mod tests;
 mod tests_sliding;
 
 use nalgebra::Vector2;
+use rayon::prelude::*;
 
 use crate::law::friction::Friction;
 pub(crate) use forces::AVERAGING_WEIGHT;
@@ -169,6 +170,8 @@ pub(crate) struct ContactWorkspace {
     area_sum: Vec<Vector2<f64>>,
     /// Per-node slave normal n_i [-].
     normal: Vec<Vector2<f64>>,
+    /// One detection result per node of Γ_det, in its order.
+    detected: Vec<Detected>,
 }
 
 impl ContactWorkspace {
@@ -176,6 +179,7 @@ impl ContactWorkspace {
     pub fn new(num_nodes: usize, max_segments: usize) -> Self {
         Self {
             grid: BucketGrid::with_capacity(max_segments),
+            detected: Vec::with_capacity(num_nodes.min(2 * max_segments)),
             frames: Vec::with_capacity(max_segments),
             area_sum: vec![Vector2::zeros(); num_nodes],
             normal: vec![Vector2::zeros(); num_nodes],
@@ -241,29 +245,46 @@ pub(crate) fn resolve(
         max_gap: p.max_gap,
         projection_tolerance: p.projection_tolerance,
     };
+    // Detection and the contact law per slave node are independent: in parallel, into one slot
+    // per node. Forces, state and sums follow serially in node order, so the result does not
+    // depend on the number of threads.
+    let frictionless_law = |i: usize| frictionless.get(i).copied().unwrap_or(false);
+    let (grid, frames, area_sum, normal) = (&ws.grid, &ws.frames, &ws.area_sum, &ws.normal);
+    let history = &state.history;
+    nodes
+        .par_iter()
+        .with_min_len(64)
+        .map(|&node| {
+            let i = node as usize;
+            let slave = Slave {
+                node,
+                tied_twin: tied_twin.get(i).copied().unwrap_or(u32::MAX),
+                normal: normal[i],
+            };
+            let (found, lost) = closest_master_or_depth(&slave, grid, segments, frames, x, &limits);
+            found.map_or(Detected::Lost(lost), |(e, proj)| {
+                let segment = segments[e as usize];
+                let law = if frictionless_law(i) { &no_friction } else { &law };
+                let area = area_sum[i].norm();
+                let r = respond(p.eps_n, law, area, (segment, &proj), history[i].as_ref(), x);
+                Detected::Hit { segment, proj, r }
+            })
+        })
+        .collect_into_vec(&mut ws.detected);
     let mut summary = ContactSummary::default();
-    for &node in nodes {
+    for (&node, detected) in nodes.iter().zip(&ws.detected) {
         let i = node as usize;
         let area = ws.area_sum[i].norm();
         state.area[i] = area;
-        let slave = Slave {
-            node,
-            tied_twin: tied_twin.get(i).copied().unwrap_or(u32::MAX),
-            normal: ws.normal[i],
+        let (segment, proj, r) = match *detected {
+            Detected::Lost(lost) => {
+                summary.dropped += usize::from(lost);
+                state.clear(i);
+                continue;
+            }
+            Detected::Hit { segment, proj, r } => (segment, proj, r),
         };
-        let (found, lost) = closest_master_or_depth(&slave, &ws.grid, segments, &ws.frames, x, &limits);
-        let Some((e, proj)) = found else {
-            summary.dropped += usize::from(lost);
-            state.clear(i);
-            continue;
-        };
-        let segment = segments[e as usize];
-        let law = if frictionless.get(i).copied().unwrap_or(false) {
-            &no_friction
-        } else {
-            &law
-        };
-        let r = respond(p.eps_n, law, area, (segment, &proj), state.history[i].as_ref(), x);
+        let law = if frictionless_law(i) { &no_friction } else { &law };
         scatter(f, node, segment, proj.xi_clamped, r.force);
         state.record(i, segment, &proj, &r);
         summary.contacts += 1;
@@ -277,4 +298,18 @@ pub(crate) fn resolve(
         }
     }
     summary
+}
+
+/// What detection and the contact law found for one slave node.
+#[derive(Debug, Clone, Copy)]
+enum Detected {
+    /// No master segment; `true` if the node was lost because it lies deeper than the detection
+    /// distance.
+    Lost(bool),
+    /// The closest master segment, the projection on it and the contact law's response.
+    Hit {
+        segment: [u32; 2],
+        proj: Projection,
+        r: ContactResponse,
+    },
 }

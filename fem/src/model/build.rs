@@ -163,8 +163,8 @@ fn workspace(model: &Model) -> Workspace {
         row_u_old: vec![Vector2::zeros(); model.iface.as_ref().map_or(0, |r| 2 * r.minus.len())],
         ramp_values: vec![0.0; model.ramps.len()],
         strain_energy: 0.0,
-        cohesive_seconds: 0.0,
-        contact_seconds: 0.0,
+        clock: Default::default(),
+        predicted: false,
     }
 }
 

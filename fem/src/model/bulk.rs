@@ -154,8 +154,8 @@ pub(crate) fn extrapolate(sig: &[[f64; 3]; 4], xi: f64, eta: f64) -> [f64; 3] {
 
 /// f = −f_int(u) for every node (overwrites `f`), gathering per node from the ≤ 4 adjacent
 /// elements: f_a −= Σ_e K_e[a-rows] u_e. Parallel over layers; each task writes only its own
-/// layer, so there is no race. With a shared K_e the interior nodes use a precomputed 2×3×2
-/// stencil of 2×2 blocks per adjacent element row (same arithmetic, fewer index computations).
+/// layer, so there is no race and the result does not depend on the number of threads. With a
+/// shared K_e the interior nodes of a layer use the precomputed stencil ([`Stencil`]).
 pub(crate) fn internal_forces(grid: &Grid, k: &Stiffness, u: &[Vector2<f64>], f: &mut [Vector2<f64>]) {
     let nx = grid.nx;
     let w = nx + 1;
@@ -164,6 +164,7 @@ pub(crate) fn internal_forces(grid: &Grid, k: &Stiffness, u: &[Vector2<f64>], f:
         Stiffness::PerElement(_) => None,
         Stiffness::Mapped(m) => return crate::model::mapped::internal_forces(grid, m, u, f),
     };
+    let flat: &[f64] = bytemuck::cast_slice(u);
     f.par_chunks_mut(w).enumerate().for_each(|(layer, fl)| {
         let (below, above) = grid.layer_element_rows(layer);
         let generic = |i: usize| node_force(grid, k, below, above, i, u);
@@ -171,18 +172,15 @@ pub(crate) fn internal_forces(grid: &Grid, k: &Stiffness, u: &[Vector2<f64>], f:
             Some(st) if nx >= 2 => {
                 fl[0] = generic(0);
                 fl[nx] = generic(nx);
-                let lo = below.map(|_| &u[(layer - 1) * w..layer * w]);
-                let mid = &u[layer * w..(layer + 1) * w];
-                let hi = above.map(|_| &u[(layer + 1) * w..(layer + 2) * w]);
-                for (i, fi) in fl.iter_mut().enumerate().take(nx).skip(1) {
-                    let mut acc = [0.0; 2];
-                    if let Some(lo) = lo {
-                        st.apply(&st.below, lo, mid, i, &mut acc);
+                let row = |l: usize| &flat[2 * l * w..2 * (l + 1) * w];
+                let out: &mut [f64] = bytemuck::cast_slice_mut(fl);
+                match (below, above) {
+                    (Some(_), Some(_)) => {
+                        st.apply([row(layer - 1), row(layer), row(layer + 1)], &st.both, out)
                     }
-                    if let Some(hi) = hi {
-                        st.apply(&st.above, mid, hi, i, &mut acc);
-                    }
-                    *fi = Vector2::new(-acc[0], -acc[1]);
+                    (Some(_), None) => st.apply([row(layer - 1), row(layer)], &st.below, out),
+                    (None, Some(_)) => st.apply([row(layer), row(layer + 1)], &st.above, out),
+                    (None, None) => out[2..2 * nx].fill(0.0),
                 }
             }
             _ => {
@@ -219,12 +217,22 @@ fn node_force(
     -acc
 }
 
-/// Interior-node stencil of a shared K_e: per adjacent element row, blocks[layer offset][column offset + 1]
-/// (2×2, row-major) multiplying u of the lower/upper layer of that row.
+/// A 2×2 block of K multiplying the displacement of one neighbour, as the two lane patterns of
+/// a pair of nodes: f_x, f_y, f_x, f_y += `xs` · (u_x, u_x, u_x', u_x') + `ys` · (u_y, u_y, u_y', u_y').
+type Block = [[f64; 4]; 2];
+
+/// Interior-node stencil of a shared K_e: f_a = −Σ_rows Σ_{dc = −1, 0, 1} B[row][dc] u(row, i + dc),
+/// one 2×2 block per neighbour node, for a node with element rows on both sides (3 node rows,
+/// the middle row's blocks summed over the two element rows), below only, or above only.
 #[derive(Debug, Clone)]
 struct Stencil {
-    below: [[[f64; 4]; 3]; 2],
-    above: [[[f64; 4]; 3]; 2],
+    both: [[Block; 3]; 3],
+    below: [[Block; 3]; 2],
+    above: [[Block; 3]; 2],
+    /// The CPU has AVX2 / AVX-512F (checked once at build): the same lane code compiled for
+    /// 4- and 8-wide vectors.
+    avx2: bool,
+    avx512: bool,
 }
 
 impl Stencil {
@@ -237,11 +245,10 @@ impl Stencil {
                 k[2 * a + 1][2 * b + 1],
             ]
         };
-        let mut st = Stencil {
-            below: [[[0.0; 4]; 3]; 2],
-            above: [[[0.0; 4]; 3]; 2],
-        };
-        // element nodes b = 0..3 at (layer offset, column offset) relative to the node, per (element, local a)
+        // per element row: blocks[node row offset][column offset + 1], row-major 2×2
+        let mut below = [[[0.0; 4]; 3]; 2];
+        let mut above = [[[0.0; 4]; 3]; 2];
+        // element nodes b = 0..3 at (node row offset, column offset + 1) relative to the node, per (element, local a)
         let below_elems = [
             (2usize, [(0usize, 0usize), (0, 1), (1, 1), (1, 0)]),
             (3, [(0, 1), (0, 2), (1, 2), (1, 1)]),
@@ -250,35 +257,109 @@ impl Stencil {
             (1usize, [(0usize, 0usize), (0, 1), (1, 1), (1, 0)]),
             (0, [(0, 1), (0, 2), (1, 2), (1, 1)]),
         ];
-        for (target, elems) in [(&mut st.below, below_elems), (&mut st.above, above_elems)] {
+        for (target, elems) in [(&mut below, below_elems), (&mut above, above_elems)] {
             for (a, nodes) in elems {
                 for (b, (lo, col)) in nodes.iter().enumerate() {
-                    let blk = block(a, b);
-                    for (t, v) in target[*lo][*col].iter_mut().zip(blk) {
+                    for (t, v) in target[*lo][*col].iter_mut().zip(block(a, b)) {
                         *t += v;
                     }
                 }
             }
         }
-        st
-    }
-
-    #[inline(always)]
-    fn apply(
-        &self,
-        blocks: &[[[f64; 4]; 3]; 2],
-        lower: &[Vector2<f64>],
-        upper: &[Vector2<f64>],
-        i: usize,
-        acc: &mut [f64; 2],
-    ) {
-        for (layer, blk) in [lower, upper].iter().zip(blocks) {
-            for (dc, m) in blk.iter().enumerate() {
-                let ub = layer[i + dc - 1];
-                acc[0] += m[0] * ub.x + m[1] * ub.y;
-                acc[1] += m[2] * ub.x + m[3] * ub.y;
+        let mut both = [below[0], [[0.0; 4]; 3], above[1]];
+        for dc in 0..3 {
+            for q in 0..4 {
+                both[1][dc][q] = below[1][dc][q] + above[0][dc][q];
             }
         }
+        let lanes = |m: [f64; 4]| -> Block { [[m[0], m[2], m[0], m[2]], [m[1], m[3], m[1], m[3]]] };
+        #[cfg(target_arch = "x86_64")]
+        let (avx2, avx512) = (
+            std::arch::is_x86_feature_detected!("avx2"),
+            std::arch::is_x86_feature_detected!("avx512f"),
+        );
+        #[cfg(not(target_arch = "x86_64"))]
+        let (avx2, avx512) = (false, false);
+        Stencil {
+            both: both.map(|r| r.map(lanes)),
+            below: below.map(|r| r.map(lanes)),
+            above: above.map(|r| r.map(lanes)),
+            avx2,
+            avx512,
+        }
+    }
+
+    /// Forces of the interior nodes 1..nx−1 of one layer into `out` (the layer's x, y pairs).
+    #[inline]
+    fn apply<const R: usize>(&self, rows: [&[f64]; R], blocks: &[[Block; 3]; R], out: &mut [f64]) {
+        #[cfg(target_arch = "x86_64")]
+        if self.avx512 {
+            // SAFETY: `avx512` is true only if the CPU reported AVX-512F at run time (`Stencil::new`).
+            return unsafe { stencil_layer_avx512(rows, blocks, out) };
+        }
+        #[cfg(target_arch = "x86_64")]
+        if self.avx2 {
+            // SAFETY: `avx2` is true only if the CPU reported AVX2 at run time (`Stencil::new`).
+            return unsafe { stencil_layer_avx2(rows, blocks, out) };
+        }
+        stencil_layer::<R, 4>(rows, blocks, out)
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn stencil_layer_avx2<const R: usize>(rows: [&[f64]; R], blocks: &[[Block; 3]; R], out: &mut [f64]) {
+    stencil_layer::<R, 4>(rows, blocks, out)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn stencil_layer_avx512<const R: usize>(rows: [&[f64]; R], blocks: &[[Block; 3]; R], out: &mut [f64]) {
+    stencil_layer::<R, 8>(rows, blocks, out)
+}
+
+/// L/2 nodes per iteration in L lanes (f_x, f_y of node i, then of node i + 1, …); the nodes left
+/// over take one at a time the first two lanes of the same arithmetic, so every node's force is
+/// the same sequence of IEEE operations whatever the vector width or the grouping.
+#[inline(always)]
+fn stencil_layer<const R: usize, const L: usize>(
+    rows: [&[f64]; R],
+    blocks: &[[Block; 3]; R],
+    out: &mut [f64],
+) {
+    let nx = out.len() / 2 - 1;
+    let p = L / 2;
+    let mut i = 1;
+    while i + p <= nx {
+        let mut acc = [0.0f64; L];
+        for (row, blk) in rows.iter().zip(blocks) {
+            let u = &row[2 * (i - 1)..2 * (i - 1) + L + 4];
+            for (dc, [xs, ys]) in blk.iter().enumerate() {
+                let w = &u[2 * dc..2 * dc + L];
+                for l in 0..L {
+                    let pair = l & !1;
+                    acc[l] += xs[l % 4] * w[pair] + ys[l % 4] * w[pair + 1];
+                }
+            }
+        }
+        for (o, a) in out[2 * i..2 * i + L].iter_mut().zip(acc) {
+            *o = -a;
+        }
+        i += p;
+    }
+    while i < nx {
+        let mut acc = [0.0f64; 2];
+        for (row, blk) in rows.iter().zip(blocks) {
+            for (dc, [xs, ys]) in blk.iter().enumerate() {
+                let j = 2 * (i + dc - 1);
+                for l in 0..2 {
+                    acc[l] += xs[l] * row[j] + ys[l] * row[j + 1];
+                }
+            }
+        }
+        out[2 * i] = -acc[0];
+        out[2 * i + 1] = -acc[1];
+        i += 1;
     }
 }
 
@@ -344,34 +425,67 @@ mod tests {
         assert!(stiffness(&bad, &d).is_err());
     }
 
+    /// The stencil (vector lanes, node groups and the one-node tail) against the element-by-element
+    /// gather, on widths that leave every possible tail after groups of 2 and 4 nodes, and on
+    /// layers with element rows on both sides, below only (under the twinned row) and above only.
+    /// 1e-12 relative: the two sum the same products in a different order.
     #[test]
     fn shared_stencil_equals_per_element_path() {
         use crate::mesh::structured::GridSpec;
-        let grid = Grid::new(&GridSpec {
-            x_range: [0.0, 5.0],
-            y_range: [-2.0, 2.0],
-            nx: 5,
-            ny: 4,
-            twinned_row: Some(2),
-            upper_shift: 0.0,
-            row_map: None,
-        });
-        let d = crate::law::elastic::PlaneStrain::new(70e6, 0.35, 1230.0).d_matrix();
-        let k = stiffness(&grid.element_coords(0), &d).unwrap();
-        let u: Vec<Vector2<f64>> = (0..grid.num_nodes())
-            .map(|n| Vector2::new((n as f64 * 0.37).sin(), (n as f64 * 0.11).cos()) * 1e-3)
-            .collect();
-        let (mut f1, mut f2) = (vec![Vector2::zeros(); u.len()], vec![Vector2::zeros(); u.len()]);
-        internal_forces(&grid, &Stiffness::shared(k), &u, &mut f1);
-        internal_forces(
-            &grid,
-            &Stiffness::PerElement(vec![k; grid.num_elements()]),
-            &u,
-            &mut f2,
-        );
-        for (a, b) in f1.iter().zip(&f2) {
-            assert!((a - b).norm() <= 1e-12 * b.norm().max(1.0), "{a} vs {b}");
+        for nx in [2, 5, 6, 7, 8, 13] {
+            let grid = Grid::new(&GridSpec {
+                x_range: [0.0, nx as f64],
+                y_range: [-2.0, 2.0],
+                nx,
+                ny: 4,
+                twinned_row: Some(2),
+                upper_shift: 0.0,
+                row_map: None,
+            });
+            let d = crate::law::elastic::PlaneStrain::new(70e6, 0.35, 1230.0).d_matrix();
+            let k = stiffness(&grid.element_coords(0), &d).unwrap();
+            let u: Vec<Vector2<f64>> = (0..grid.num_nodes())
+                .map(|n| Vector2::new((n as f64 * 0.37).sin(), (n as f64 * 0.11).cos()) * 1e-3)
+                .collect();
+            let (mut f1, mut f2) = (vec![Vector2::zeros(); u.len()], vec![Vector2::zeros(); u.len()]);
+            internal_forces(&grid, &Stiffness::shared(k), &u, &mut f1);
+            internal_forces(
+                &grid,
+                &Stiffness::PerElement(vec![k; grid.num_elements()]),
+                &u,
+                &mut f2,
+            );
+            for (a, b) in f1.iter().zip(&f2) {
+                assert!(
+                    (a - b).norm() <= 1e-12 * b.norm().max(1.0),
+                    "nx = {nx}: {a} vs {b}"
+                );
+            }
         }
+    }
+
+    /// Every vector width gives the same bits as the portable code (the run's output must not
+    /// depend on the CPU it runs on).
+    #[test]
+    fn stencil_widths_agree_bit_for_bit() {
+        let d = crate::law::elastic::PlaneStrain::new(70e6, 0.35, 1230.0).d_matrix();
+        let st = Stencil::new(&stiffness(&rect(), &d).unwrap());
+        let w = 23;
+        let rows: Vec<Vec<f64>> = (0..3)
+            .map(|r| (0..2 * w).map(|k| ((k + 7 * r) as f64 * 0.731).sin()).collect())
+            .collect();
+        let rows = [rows[0].as_slice(), rows[1].as_slice(), rows[2].as_slice()];
+        let mut reference = vec![0.0; 2 * w];
+        stencil_layer::<3, 2>(rows, &st.both, &mut reference);
+        let mut four = vec![0.0; 2 * w];
+        stencil_layer::<3, 4>(rows, &st.both, &mut four);
+        let mut eight = vec![0.0; 2 * w];
+        stencil_layer::<3, 8>(rows, &st.both, &mut eight);
+        let mut dispatched = vec![0.0; 2 * w];
+        st.apply(rows, &st.both, &mut dispatched);
+        assert_eq!(reference, four);
+        assert_eq!(reference, eight);
+        assert_eq!(reference, dispatched);
     }
 
     #[test]

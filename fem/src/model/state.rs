@@ -160,9 +160,12 @@ pub struct Workspace {
     pub(crate) ramp_values: Vec<f64>,
     /// Strain energy of the last sampled step [J/m].
     pub(crate) strain_energy: f64,
-    /// Step time spent in the cohesive law + insertion and in contact [s] (profiling).
-    pub(crate) cohesive_seconds: f64,
-    pub(crate) contact_seconds: f64,
+    /// Wall time per phase of the step (profiling; never part of the records).
+    pub(crate) clock: crate::solver::profile::Clock,
+    /// The free nodes off the interface layers already hold the next step's predictor
+    /// (u_{n+1} + Δt v_{n+1} + ½Δt² a_{n+1}, v_{n+1} + ½Δt a_{n+1}): the corrector of an unsampled
+    /// step fuses the next step's predictor into the same sweep over memory.
+    pub(crate) predicted: bool,
 }
 
 impl Model {
@@ -205,8 +208,8 @@ impl State {
 }
 
 impl Workspace {
-    /// Seconds spent in cohesive work (law + insertion) and in contact so far.
-    pub fn profile_seconds(&self) -> (f64, f64) {
-        (self.cohesive_seconds, self.contact_seconds)
+    /// Wall time per phase so far.
+    pub fn profile(&self) -> Vec<crate::solver::profile::PhaseTime> {
+        self.clock.phases()
     }
 }

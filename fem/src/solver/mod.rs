@@ -3,4 +3,5 @@
 pub mod central_difference;
 pub(crate) mod contact_step;
 pub mod estimate;
+pub mod profile;
 pub mod run;

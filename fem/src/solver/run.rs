@@ -8,6 +8,7 @@ use crate::model::state::{Model, State, Workspace};
 use crate::output::RunOutput;
 use crate::scene::Scene;
 use crate::solver::central_difference::step;
+use crate::solver::profile::Phase;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Runs the scene from t = 0 to T.
@@ -30,6 +31,7 @@ pub fn run_with_progress(
     let report = (total / 200).max(1);
     let mut out = RunOutput {
         time_step: dt,
+        elements: model.num_elements(),
         model: match scene.fem.model {
             crate::scene::ModelKind::Hybrid => "hybrid",
             crate::scene::ModelKind::Standard => "standard",
@@ -53,7 +55,9 @@ pub fn run_with_progress(
                     return Some(Err(b));
                 }
                 if sample {
+                    ws.clock.start();
                     Recorder { out: &mut out }.observe(&model, &state, &ws);
+                    ws.clock.lap(Phase::Diagnostics);
                 }
                 if stop.load(Ordering::Relaxed) {
                     return Some(Ok(()));
@@ -95,5 +99,5 @@ fn finish(model: &Model, state: &State, ws: &Workspace, out: &mut RunOutput) {
     out.steps = state.step;
     out.arrivals = tips::arrivals(model, state);
     out.friction = crate::diag::energy::friction_records(model, state);
-    (out.cohesive_seconds, out.contact_seconds) = ws.profile_seconds();
+    out.profile = ws.profile();
 }

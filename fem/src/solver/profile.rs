@@ -1,0 +1,164 @@
+//! Where the wall time of a run goes: one clock lap per phase of the step (docs/fem-model.md §9)
+//! and of the loop around it. A lap costs one `Instant::now()` (tens of ns) against a step of
+//! about a millisecond at paper resolution, so the clock stays on in every run.
+//!
+//! Timings never enter the run's records or files (they differ between runs); the `fem` binary
+//! prints them.
+
+use serde::Serialize;
+use std::time::Instant;
+
+/// The phases of a run, in the order of the step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Phase {
+    /// Ramp values, interface displacements saved, predictor, prescribed values.
+    Predictor,
+    /// Bulk internal forces (element kernel).
+    Bulk,
+    /// Strain energy at the sampled steps.
+    StrainEnergy,
+    /// Cohesive tractions of the inserted elements, paper eqs. (2)–(3).
+    Cohesive,
+    /// Contact detection and resolution (node-to-segment, friction).
+    Contact,
+    /// External forces, boundary reactions and work, tied pairs.
+    Boundary,
+    /// Corrector, stability guard, prescribed values restored.
+    Corrector,
+    /// Extrinsic insertion check.
+    Insertion,
+    /// Velocity scaling on the damped set.
+    Damping,
+    /// Records of the sampled steps (tips, tractions, energies, probes).
+    Diagnostics,
+}
+
+impl Phase {
+    /// Every phase, in step order.
+    pub const ALL: [Phase; 10] = [
+        Phase::Predictor,
+        Phase::Bulk,
+        Phase::StrainEnergy,
+        Phase::Cohesive,
+        Phase::Contact,
+        Phase::Boundary,
+        Phase::Corrector,
+        Phase::Insertion,
+        Phase::Damping,
+        Phase::Diagnostics,
+    ];
+
+    /// Short name, as printed.
+    pub fn name(self) -> &'static str {
+        match self {
+            Phase::Predictor => "predictor",
+            Phase::Bulk => "bulk forces",
+            Phase::StrainEnergy => "strain energy",
+            Phase::Cohesive => "cohesive law",
+            Phase::Contact => "contact",
+            Phase::Boundary => "boundary and ties",
+            Phase::Corrector => "corrector",
+            Phase::Insertion => "insertion",
+            Phase::Damping => "damping",
+            Phase::Diagnostics => "diagnostics",
+        }
+    }
+}
+
+/// Wall time per phase, accumulated lap by lap.
+#[derive(Debug, Clone)]
+pub struct Clock {
+    seconds: [f64; Phase::ALL.len()],
+    last: Instant,
+}
+
+impl Default for Clock {
+    fn default() -> Self {
+        Clock {
+            seconds: [0.0; Phase::ALL.len()],
+            last: Instant::now(),
+        }
+    }
+}
+
+impl Clock {
+    /// Starts a lap now (the time since the last lap is not booked).
+    #[inline]
+    pub(crate) fn start(&mut self) {
+        self.last = Instant::now();
+    }
+
+    /// Books the time since the last lap to `phase` and starts the next lap.
+    #[inline]
+    pub(crate) fn lap(&mut self, phase: Phase) {
+        let now = Instant::now();
+        self.seconds[phase as usize] += (now - self.last).as_secs_f64();
+        self.last = now;
+    }
+
+    /// Seconds per phase so far.
+    pub fn phases(&self) -> Vec<PhaseTime> {
+        Phase::ALL
+            .iter()
+            .map(|&p| PhaseTime {
+                phase: p.name(),
+                seconds: self.seconds[p as usize],
+            })
+            .collect()
+    }
+}
+
+/// The wall time of one phase over a run.
+#[derive(Debug, Clone, Serialize)]
+pub struct PhaseTime {
+    /// Phase name.
+    pub phase: &'static str,
+    /// Wall time [s].
+    pub seconds: f64,
+}
+
+/// The profile as an aligned text table: phase, seconds, share of the total, µs per step and ns
+/// per element-step.
+pub fn table(phases: &[PhaseTime], steps: u64, elements: usize) -> String {
+    let total: f64 = phases.iter().map(|p| p.seconds).sum();
+    let per = |s: f64, n: f64| if n > 0.0 { s / n } else { f64::NAN };
+    let mut out = format!(
+        "{:<18} {:>9} {:>7} {:>10} {:>14}\n",
+        "phase", "s", "share", "us/step", "ns/elem-step"
+    );
+    for p in phases.iter().chain(std::iter::once(&PhaseTime {
+        phase: "total",
+        seconds: total,
+    })) {
+        out += &format!(
+            "{:<18} {:>9.3} {:>6.1}% {:>10.1} {:>14.2}\n",
+            p.phase,
+            p.seconds,
+            100.0 * per(p.seconds, total),
+            1e6 * per(p.seconds, steps as f64),
+            1e9 * per(p.seconds, steps as f64 * elements as f64)
+        );
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn laps_go_to_their_phase_and_the_table_sums_them() {
+        let mut c = Clock::default();
+        c.start();
+        std::thread::sleep(std::time::Duration::from_millis(5));
+        c.lap(Phase::Bulk);
+        c.lap(Phase::Contact);
+        let p = c.phases();
+        let bulk = p.iter().find(|x| x.phase == "bulk forces").unwrap().seconds;
+        let contact = p.iter().find(|x| x.phase == "contact").unwrap().seconds;
+        assert!(bulk >= 0.005 && contact < bulk, "{bulk} {contact}");
+        let t = table(&p, 10, 100);
+        assert!(t.lines().last().unwrap().starts_with("total"), "{t}");
+        assert_eq!(t.lines().count(), Phase::ALL.len() + 2);
+    }
+}
