@@ -4,6 +4,7 @@
 //! scene ([`study`]), running of the models ([`runner`]) and plotting ([`plot`]).
 
 pub mod boundary;
+pub mod concurrent;
 pub mod converged;
 pub mod gate;
 pub mod output;

@@ -41,6 +41,10 @@ struct Common {
     out: Option<PathBuf>,
     #[command(flatten)]
     budget: preflight::options::BudgetOptions,
+    /// How many of a comparison's independent runs go at once, the cores shared out between them
+    /// (default: one per core; 1 runs them one after the other, each on every core).
+    #[arg(long, global = true, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    concurrent_runs: Option<u32>,
 }
 
 #[derive(Debug, Subcommand)]
@@ -196,6 +200,7 @@ fn real_main() -> Result<bool> {
     let scene_path = cli.common.scene.unwrap_or_else(|| default_scene(file));
     let mut study = Study::load(&scene_path)?;
     study.budget = cli.common.budget.budget();
+    study.concurrent_runs = cli.common.concurrent_runs.map(|n| n as usize);
     if let Some(dir) = &cli.common.out {
         preflight::paths::explicit(dir).map_err(|e| anyhow!(e))?;
     }

@@ -70,6 +70,7 @@ pub fn preflight(
         steps: estimates.iter().map(|(_, e)| e.steps).sum(),
         seconds: estimates.iter().map(|(_, e)| e.seconds).sum(),
         largest_bytes: estimates.iter().map(|(_, e)| e.bytes()).max().unwrap_or(0),
+        lanes: crate::concurrent::Lanes::new(1, rayon::current_num_threads(), Some(1)),
     })
 }
 
@@ -82,16 +83,31 @@ pub struct Plan {
     pub steps: u64,
     /// Expected wall time of all runs on 2 cores [s].
     pub seconds: f64,
-    /// Memory of the largest run (they run one after the other) [B].
+    /// Memory of the largest run [B].
     pub largest_bytes: u64,
+    /// How the runs share the cores.
+    pub lanes: crate::concurrent::Lanes,
+}
+
+impl Plan {
+    /// The plan with the runs shared out as `lanes` says: memory is then that of the largest
+    /// runs going at once.
+    pub fn with_lanes(self, lanes: crate::concurrent::Lanes) -> Plan {
+        Plan {
+            largest_bytes: self.largest_bytes * lanes.lanes.min(self.runs.max(1)) as u64,
+            lanes,
+            ..self
+        }
+    }
 }
 
 impl std::fmt::Display for Plan {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "{} runs, {} steps, at most {} of memory, about {} on 2 cores",
+            "{} runs ({}), {} steps, at most {} of memory, about {} on 2 cores",
             self.runs,
+            self.lanes,
             self.steps,
             preflight::budget::human(self.largest_bytes),
             preflight::budget::duration(self.seconds)

@@ -94,6 +94,9 @@ pub struct Study {
     pub compare: CompareSection,
     /// The most one run may cost (command-line flags; 8 GiB and 10⁸ steps by default).
     pub budget: preflight::Budget,
+    /// How many runs go at once (command-line flag; `None`: one per core, see
+    /// [`crate::concurrent::Lanes`]).
+    pub concurrent_runs: Option<usize>,
 }
 
 impl Study {
@@ -153,6 +156,7 @@ impl Study {
                 spectral,
                 compare,
                 budget: preflight::Budget::default(),
+                concurrent_runs: None,
             }),
             _ => {
                 preflight::locate(text, &mut problems);

@@ -8,12 +8,21 @@ pub mod fem_figures;
 pub mod figures;
 pub mod metrics;
 
+use crate::concurrent::{self, Lanes, Task};
 use crate::output::{mu_tag, write_rows, write_tips};
-use crate::runner::{Job, Keep, Reporter, fem_tips, preflight, run_fem, run_spectral, spectral_tips};
+use crate::runner::{
+    Finished, Job, Keep, Reporter, fem_tips, preflight, run_fem, run_spectral, spectral_tips,
+};
 use crate::study::{Case, Study};
 use anyhow::{Context, Result};
 use metrics::{MuRuns, Tolerances, Verdict, verdicts};
 use std::path::{Path, PathBuf};
+
+/// One finished run of the comparison.
+enum Ran {
+    Fem(Box<Finished<fem::RunOutput>>),
+    Spectral(Box<Finished<spectral::RunOutput>>),
+}
 
 /// What a comparison produced.
 #[derive(Debug, Clone)]
@@ -86,30 +95,74 @@ pub fn run_gate(study: &Study, tol: &Tolerances, dir: &Path, rep: &dyn Reporter)
         .zip(&plans)
         .map(|(l, p)| (l.as_str(), &p.spectral))
         .collect();
-    rep.planned(&preflight(study, &fems, &spectrals, dir)?);
+    let lanes = Lanes::new(
+        2 * plans.len(),
+        rayon::current_num_threads(),
+        study.concurrent_runs,
+    );
+    rep.planned(&preflight(study, &fems, &spectrals, dir)?.with_lanes(lanes));
     let case = study.case();
     let mu_detail = plans.iter().map(|p| p.mu).fold(f64::MIN, f64::max);
+    // Every run is independent (the spectral model takes the FE step from the scene, not from
+    // the FE run): the FE runs first, as the longest, then the spectral ones.
+    let labels: Vec<(String, String)> = plans
+        .iter()
+        .map(|p| {
+            (
+                format!("FE        μ = {}", p.mu),
+                format!("spectral  μ = {}", p.mu),
+            )
+        })
+        .collect();
+    let dirs: Vec<(PathBuf, PathBuf)> = plans
+        .iter()
+        .map(|p| {
+            let tag = mu_tag(p.mu);
+            (
+                dir.join(format!("fem_mu{tag}")),
+                dir.join(format!("spectral_mu{tag}")),
+            )
+        })
+        .collect();
+    let mut tasks: Vec<Task<Ran>> = Vec::new();
+    for ((p, (fem_label, _)), (fem_dir, _)) in plans.iter().zip(&labels).zip(&dirs) {
+        tasks.push(Box::new(move || {
+            let job = Job {
+                scene: &p.fem,
+                label: fem_label,
+                dir: fem_dir,
+                keep: Keep::Everything,
+            };
+            Ok(Ran::Fem(Box::new(run_fem(job, rep)?)))
+        }));
+    }
+    for ((p, (_, spectral_label)), (_, spectral_dir)) in plans.iter().zip(&labels).zip(&dirs) {
+        tasks.push(Box::new(move || {
+            let job = Job {
+                scene: &p.spectral,
+                label: spectral_label,
+                dir: spectral_dir,
+                keep: Keep::Everything,
+            };
+            Ok(Ran::Spectral(Box::new(run_spectral(job, rep)?)))
+        }));
+    }
+    let mut ran = Vec::new();
+    for r in concurrent::run_all(tasks, lanes)? {
+        match r {
+            Some(r) => ran.push(r?),
+            None => unreachable!("invariant: a run is skipped only after an earlier one failed"),
+        }
+    }
+    let (fems, spectrals) = ran.split_at(plans.len());
     let (mut runs, mut files, mut detail, mut warnings) = (Vec::new(), Vec::new(), None, Vec::new());
-    for p in &plans {
-        let tag = mu_tag(p.mu);
-        let fem_dir = dir.join(format!("fem_mu{tag}"));
-        let fem_job = Job {
-            scene: &p.fem,
-            label: &format!("FE        μ = {}", p.mu),
-            dir: &fem_dir,
-            keep: Keep::Everything,
+    for ((p, f), s) in plans.iter().zip(fems).zip(spectrals) {
+        let (Ran::Fem(f), Ran::Spectral(s)) = (f, s) else {
+            unreachable!("invariant: the FE runs come first, then the spectral ones");
         };
-        let f = run_fem(fem_job, rep)?;
         warnings.extend(f.warnings.iter().cloned());
-        let fo = f.completed()?;
-        let spectral_dir = dir.join(format!("spectral_mu{tag}"));
-        let spectral_job = Job {
-            scene: &p.spectral,
-            label: &format!("spectral  μ = {}", p.mu),
-            dir: &spectral_dir,
-            keep: Keep::Everything,
-        };
-        let so = run_spectral(spectral_job, rep)?.completed()?;
+        let fo = f.clone().completed()?;
+        let so = s.clone().completed()?;
         let r = MuRuns {
             mu: p.mu,
             fem: fem_tips(&fo),
