@@ -70,6 +70,7 @@ pub fn preflight(
         steps: estimates.iter().map(|(_, e)| e.steps).sum(),
         seconds: estimates.iter().map(|(_, e)| e.seconds).sum(),
         largest_bytes: estimates.iter().map(|(_, e)| e.bytes()).max().unwrap_or(0),
+        longest_seconds: estimates.iter().map(|(_, e)| e.seconds).fold(0.0, f64::max),
     })
 }
 
@@ -84,6 +85,8 @@ pub struct Plan {
     pub seconds: f64,
     /// Memory of the largest run (they run one after the other) [B].
     pub largest_bytes: u64,
+    /// Expected wall time of the longest run on 2 cores [s].
+    pub longest_seconds: f64,
 }
 
 impl std::fmt::Display for Plan {
