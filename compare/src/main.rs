@@ -1,11 +1,12 @@
 //! `cargo run --release -p compare [-- JOB] [OPTIONS]`: the harness's command line.
 
 use anyhow::{Context, Result, anyhow};
-use clap::{Args, Parser, Subcommand, ValueEnum};
+use clap::parser::ValueSource;
+use clap::{ArgMatches, Args, CommandFactory, FromArgMatches, Parser, Subcommand, ValueEnum};
 use compare::gate::metrics::{PAPER_RESOLUTION, Verdict};
 use compare::runner::Reporter;
 use compare::study::Study;
-use compare::sweep::{self, Model};
+use compare::sweep::{self, Model, scale_out};
 use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -54,7 +55,25 @@ enum Job {
     Converged,
     /// Speed against accuracy: each model at h = 4, 2, 1, 0.5 mm, each point in its own process
     /// (wall time and peak memory are its own); writes sweep.csv and a log-log figure.
-    Sweep,
+    ///
+    /// With --emit DIR the points are written out as jobs to run elsewhere (xargs, GNU parallel,
+    /// a Slurm job array); --collect DIR then reads their results and writes the same files.
+    Sweep {
+        /// Nominal FE element sizes [m], comma-separated, each finite, > 0 and listed once; the
+        /// points run coarse to fine whatever the order given.
+        #[arg(long, value_name = "M", value_delimiter = ',', allow_hyphen_values = true,
+              default_values_t = sweep::NOMINAL_SIZES, value_parser = sweep::parse_size)]
+        sizes: Vec<f64>,
+        /// Check everything as the sweep does, then write into DIR one scene file per point,
+        /// jobs.txt (one command line per point), sweep.sbatch (a Slurm job array) and
+        /// sweep-manifest.toml, instead of running the points.
+        #[arg(long, value_name = "DIR", conflicts_with = "collect")]
+        emit: Option<PathBuf>,
+        /// Read the results of the sweep emitted into DIR and write sweep.csv and the figure into
+        /// DIR (or --out); refused, naming each, while any point is missing or failed.
+        #[arg(long, value_name = "DIR")]
+        collect: Option<PathBuf>,
+    },
     /// Paper Appendix D: the FE model at eps_n = eps_t = f × E per metre for each factor f, and
     /// the mean contact tractions as eps_n → ∞.
     Penalty {
@@ -74,15 +93,20 @@ enum Job {
     /// Paper Section 4: the standard against the hybrid model on the sinusoidal interface, every
     /// model of [compare].models; exits non-zero if a run goes unstable (its output is kept).
     Sinusoid,
-    /// One point of a sweep in this process (what `sweep` runs in its children).
+    /// One point of a sweep in this process (what `sweep` runs in its children and the lines of
+    /// an emitted jobs.txt run): prints the point as CSV on stdout, or writes it to --result.
     #[command(hide = true)]
     SweepPoint {
         /// Which model.
         #[arg(long)]
         model: PointModel,
         /// Nominal FE element size [m].
-        #[arg(long)]
+        #[arg(long, value_parser = sweep::parse_size)]
         size: f64,
+        /// Write the point as CSV to FILE (through a temporary file and a rename) instead of
+        /// stdout; a failed point writes FILE.failed with the error instead.
+        #[arg(long, value_name = "FILE")]
+        result: Option<PathBuf>,
     },
 }
 
@@ -191,14 +215,51 @@ fn main() -> ExitCode {
     }
 }
 
+/// Whether option `id` was given on the command line, before or after the job's name.
+fn given(m: &ArgMatches, id: &str) -> bool {
+    let here = m.ids().any(|i| i.as_str() == id) && m.value_source(id) == Some(ValueSource::CommandLine);
+    here || m.subcommand().is_some_and(|(_, sub)| given(sub, id))
+}
+
 fn real_main() -> Result<bool> {
-    let cli = Cli::parse();
+    let matches = Cli::command().get_matches();
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+    match &cli.job {
+        Some(Job::Sweep {
+            collect: Some(dir), ..
+        }) => {
+            for (id, flag) in [
+                ("scene", "--scene"),
+                ("sizes", "--sizes"),
+                ("max_memory", "--max-memory"),
+                ("max_steps", "--max-steps"),
+            ] {
+                anyhow::ensure!(
+                    !given(&matches, id),
+                    "{flag}: not taken with --collect, which reads each point's scene, size and budget \
+                     from {}",
+                    dir.join(scale_out::MANIFEST).display()
+                );
+            }
+            return collect_sweep(dir, cli.common.out.as_deref());
+        }
+        Some(Job::Sweep { emit: Some(dir), .. }) => anyhow::ensure!(
+            !given(&matches, "out"),
+            "--out: not taken with --emit; the points write into {} (give --out to --collect to put \
+             sweep.csv elsewhere)",
+            dir.display()
+        ),
+        Some(Job::SweepPoint { model, size, result }) => {
+            return sweep_point(&cli.common, *model, *size, result.as_deref());
+        }
+        _ => {}
+    }
     let file = match cli.job {
         Some(Job::Sinusoid) => "sinusoidal-interface.toml",
         _ => "center-crack.toml",
     };
     let scene_path = cli.common.scene.unwrap_or_else(|| default_scene(file));
-    let mut study = Study::load(&scene_path)?;
+    let (mut study, text) = Study::read(&scene_path)?;
     study.budget = cli.common.budget.budget();
     study.concurrent_runs = cli.common.concurrent_runs.map(|n| n as usize);
     if let Some(dir) = &cli.common.out {
@@ -230,7 +291,10 @@ fn real_main() -> Result<bool> {
             println!("\n{} files written to {}", report.gate.files.len(), dir.display());
             Ok(verdict_line(&report.gate.verdicts))
         }
-        Some(Job::Sweep) => run_sweep(&study, &scene_path, &out("-sweep")),
+        Some(Job::Sweep { sizes, emit, .. }) => match emit {
+            Some(dir) => emit_sweep(&study, &text, &scene_path, &sizes, &dir),
+            None => run_sweep(&study, &scene_path, &sizes, &out("-sweep")),
+        },
         Some(Job::Boundary { boxes }) => {
             let dir = out("-boundary");
             let report = compare::boundary::run_study(&study, &boxes, &dir, &bars)?;
@@ -273,28 +337,123 @@ fn real_main() -> Result<bool> {
             }
             Ok(report.failures.is_empty())
         }
-        Some(Job::SweepPoint { model, size }) => {
-            let model = match model {
-                PointModel::Fem => Model::Fem,
-                PointModel::Spectral => Model::Spectral,
-            };
-            anyhow::ensure!(size > 0.0 && size.is_finite(), "--size must be > 0 m");
-            let quiet = Quiet(bars.1);
-            sweep::print_point(&sweep::run_point(&study, model, size, &out("-sweep"), &quiet)?)?;
-            Ok(true)
-        }
+        Some(Job::SweepPoint { .. }) => unreachable!("invariant: handled before the scene is read"),
     }
 }
 
-fn run_sweep(study: &Study, scene: &Path, dir: &Path) -> Result<bool> {
-    let points = sweep::plan(study)?;
+/// One sweep point in this process. With `--result` every error after the command line was read
+/// (the scene, the budget, the run) is recorded in `<result>.failed` too, so that `--collect`
+/// can say why the point failed; the command exits non-zero either way.
+fn sweep_point(common: &Common, model: PointModel, size: f64, result: Option<&Path>) -> Result<bool> {
+    let model = match model {
+        PointModel::Fem => Model::Fem,
+        PointModel::Spectral => Model::Spectral,
+    };
+    if let Some(r) = result {
+        scale_out::prepare_result(r)?;
+    }
+    let run = || -> Result<sweep::Point> {
+        let scene = common
+            .scene
+            .clone()
+            .unwrap_or_else(|| default_scene("center-crack.toml"));
+        let mut study = Study::load(&scene)?;
+        study.budget = common.budget.budget();
+        let dir = match &common.out {
+            Some(dir) => preflight::paths::explicit(dir)
+                .map_err(|e| anyhow!(e))?
+                .to_path_buf(),
+            None => {
+                PathBuf::from("out").join(format!("{}-sweep", preflight::paths::folder_name(&study.stem)))
+            }
+        };
+        let stop = preflight::stop::on_signal().map_err(|e| anyhow!(e))?;
+        sweep::run_point(&study, model, size, &dir, &Quiet(stop))
+    };
+    match (run(), result) {
+        (Ok(p), None) => sweep::print_point(&p)?,
+        (Ok(p), Some(r)) => {
+            scale_out::write_result(r, &p)?;
+            println!("wrote {}", r.display());
+        }
+        (Err(e), Some(r)) => {
+            if let Err(w) = scale_out::write_failure(r, &format!("{e:#}")) {
+                return Err(e.context(format!("(and recording the failure: {w:#})")));
+            }
+            return Err(e);
+        }
+        (Err(e), None) => return Err(e),
+    }
+    Ok(true)
+}
+
+/// The sweep written out as jobs (`sweep --emit DIR`), after every check the sweep makes.
+fn emit_sweep(study: &Study, text: &str, scene: &Path, sizes: &[f64], dir: &Path) -> Result<bool> {
+    let points = sweep::plan(study, &sweep::sizes(sizes)?)?;
+    let exe = std::env::current_exe().context("locating the compare executable")?;
+    let target = scale_out::check(dir, &exe)?;
+    let plan = sweep::preflight(study, &points, &target.dir)?;
+    println!("{plan}");
+    let files = scale_out::emit(&target, study, text, scene, &points, &plan)?;
+    let d = target.dir.display();
+    let jobs = target.dir.join(scale_out::JOBS);
+    let jobs = jobs.display();
+    println!(
+        "
+wrote {} files to {d}: a scene per point in {}/, {}, {} and {}",
+        files.len(),
+        scale_out::SCENES,
+        scale_out::JOBS,
+        scale_out::SBATCH,
+        scale_out::MANIFEST
+    );
+    println!(
+        "run the {} points (each writes {d}/{}/<model>_<h>mm.csv) with one of:",
+        points.len(),
+        scale_out::POINTS
+    );
+    let ways = [
+        (
+            format!("xargs -P 2 -I{{}} sh -c {{}} < {jobs}"),
+            "here, two at a time",
+        ),
+        (
+            format!("parallel < {jobs}"),
+            "GNU parallel (--sshlogin for other machines)",
+        ),
+        (
+            format!("sbatch {d}/{}", scale_out::SBATCH),
+            "Slurm, one array task per point",
+        ),
+    ];
+    let width = ways.iter().map(|(c, _)| c.len()).max().unwrap_or(0);
+    for (command, what) in ways {
+        println!("  {command:<width$}  # {what}");
+    }
+    println!("then: {} sweep --collect {d}", exe.display());
+    Ok(true)
+}
+
+/// The results of an emitted sweep (`sweep --collect DIR`), written as the sweep writes them.
+fn collect_sweep(dir: &Path, out: Option<&Path>) -> Result<bool> {
+    let out = match out {
+        Some(o) => preflight::paths::explicit(o).map_err(|e| anyhow!(e))?,
+        None => dir,
+    };
+    let (manifest, measured) = scale_out::collect(dir)?;
+    preflight::paths::claim(out, "compare").map_err(|e| anyhow!(e))?;
+    finish_sweep(&measured, manifest.duration, out)
+}
+
+fn run_sweep(study: &Study, scene: &Path, sizes: &[f64], dir: &Path) -> Result<bool> {
+    let points = sweep::plan(study, &sweep::sizes(sizes)?)?;
     println!("{}", sweep::preflight(study, &points, dir)?);
     let exe = std::env::current_exe().context("locating the compare executable")?;
     let bar = ProgressBar::new(points.len() as u64).with_style(
         ProgressStyle::with_template("sweep [{bar:40}] {pos}/{len} points ({elapsed}) {msg}")
             .expect("invariant: the template is valid"),
     );
-    let measured = sweep::run_children(&exe, scene, dir, study.budget, &mut |p| {
+    let measured = sweep::run_children(&exe, scene, dir, study.budget, &points, &mut |p| {
         bar.set_message(format!(
             "{:?} h = {:.2e} m: {:.1} s",
             p.model, p.spacing, p.wall_s
@@ -302,7 +461,12 @@ fn run_sweep(study: &Study, scene: &Path, dir: &Path) -> Result<bool> {
         bar.inc(1);
     })?;
     bar.finish();
-    let rows = sweep::with_errors(&measured, study.fem.duration());
+    finish_sweep(&measured, study.fem.duration(), dir)
+}
+
+/// Errors against the finest point of each model, the table, `sweep.csv` and the figure.
+fn finish_sweep(measured: &[sweep::Point], duration: f64, dir: &Path) -> Result<bool> {
+    let rows = sweep::with_errors(measured, duration);
     println!(
         "\n{:<9} {:>10} {:>10} {:>9} {:>9} {:>9} {:>11} {:>9}",
         "model", "spacing_m", "dt_s", "wall_s", "peak_MiB", "onset_s", "onsetErr/T", "speedErr"

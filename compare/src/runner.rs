@@ -70,6 +70,7 @@ pub fn preflight(
         steps: estimates.iter().map(|(_, e)| e.steps).sum(),
         seconds: estimates.iter().map(|(_, e)| e.seconds).sum(),
         largest_bytes: estimates.iter().map(|(_, e)| e.bytes()).max().unwrap_or(0),
+        longest_seconds: estimates.iter().map(|(_, e)| e.seconds).fold(0.0, f64::max),
         lanes: crate::concurrent::Lanes::new(1, rayon::current_num_threads(), Some(1)),
     })
 }
@@ -85,6 +86,8 @@ pub struct Plan {
     pub seconds: f64,
     /// Memory of the largest run [B].
     pub largest_bytes: u64,
+    /// Expected wall time of the longest run on 2 cores [s].
+    pub longest_seconds: f64,
     /// How the runs share the cores.
     pub lanes: crate::concurrent::Lanes,
 }

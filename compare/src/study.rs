@@ -102,11 +102,19 @@ pub struct Study {
 impl Study {
     /// Reads and parses the scene file at `path`.
     pub fn load(path: &Path) -> Result<Study> {
+        Study::read(path).map(|(study, _)| study)
+    }
+
+    /// Reads and parses the scene file at `path`, and returns its text too (read once, so the
+    /// text is exactly the one the study was parsed from).
+    pub fn read(path: &Path) -> Result<(Study, String)> {
         let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
         let stem = path
             .file_stem()
             .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
-        Study::from_toml_str(&text, &stem).with_context(|| format!("scene {}", path.display()))
+        let study =
+            Study::from_toml_str(&text, &stem).with_context(|| format!("scene {}", path.display()))?;
+        Ok((study, text))
     }
 
     /// Parses scene `text`; `stem` names the default output folder. Every part the harness will

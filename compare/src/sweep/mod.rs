@@ -3,7 +3,13 @@
 //!
 //! FE: h ≈ 4, 2, 1, 0.5 mm, rounded to h = a/round(a/h) so the pre-crack tips and the domain
 //! edges stay on nodes (4 mm → a/31 = 4.03 mm). Spectral: the power-of-two N nearest to X/h
-//! (N = 1024 … 8192 for X = 30a), at the FE time step of the same point.
+//! (N = 1024 … 8192 for X = 30a), at the FE time step of the same point. `--sizes` sweeps other
+//! nominal sizes.
+//!
+//! The points run as children of `compare sweep`, or anywhere else: [`scale_out`] writes them out
+//! as independent jobs and reads their results back.
+
+pub mod scale_out;
 
 use crate::runner::{Job, Keep, Reporter, fem_tips, run_fem, run_spectral, spectral_tips};
 use crate::series::{Series, mean_speed, onset};
@@ -13,6 +19,57 @@ use serde::{Deserialize, Serialize};
 
 /// Nominal FE element sizes of the sweep [m], coarse to fine.
 pub const NOMINAL_SIZES: [f64; 4] = [4e-3, 2e-3, 1e-3, 0.5e-3];
+
+/// One value of `--sizes`: a nominal element size [m], finite and > 0 (the command line's
+/// parser, so that its error names the option).
+pub fn parse_size(text: &str) -> Result<f64, String> {
+    let h: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("{text:?} is not a number; give sizes in metres, e.g. 4e-3,2e-3"))?;
+    if h.is_finite() && h > 0.0 {
+        Ok(h)
+    } else {
+        Err(format!("{h} is not a size; give finite sizes > 0 m"))
+    }
+}
+
+/// The nominal sizes [m] of `--sizes` ordered coarse to fine, once each: a size listed twice,
+/// or two sizes whose points would share files, are refused naming the option.
+pub fn sizes(given: &[f64]) -> Result<Vec<f64>> {
+    anyhow::ensure!(!given.is_empty(), "--sizes: give at least one size [m]");
+    for (k, &h) in given.iter().enumerate() {
+        anyhow::ensure!(
+            h.is_finite() && h > 0.0,
+            "--sizes: {h} is not a size; give finite sizes > 0 m"
+        );
+        if let Some(&g) = given[..k]
+            .iter()
+            .find(|&&g| point_tag(Model::Fem, g) == point_tag(Model::Fem, h))
+        {
+            if g == h {
+                anyhow::bail!("--sizes: {h} is listed twice (each point writes its own files)");
+            }
+            anyhow::bail!(
+                "--sizes: {g} and {h} m would write the same files ({}); give sizes further apart",
+                point_tag(Model::Fem, h)
+            );
+        }
+    }
+    let mut sorted = given.to_vec();
+    sorted.sort_by(|a, b| b.total_cmp(a));
+    Ok(sorted)
+}
+
+/// The name of a point in its file names: `<model>_<nominal h in mm>mm` (`fem_4mm`, `spectral_0.5mm`).
+pub fn point_tag(model: Model, nominal: f64) -> String {
+    format!("{}_{}mm", model.tag(), nominal * 1e3)
+}
+
+/// The label of a point in messages: `sweep fem h = 0.004 m`.
+pub fn point_label(model: Model, nominal: f64) -> String {
+    format!("sweep {} h = {nominal} m", model.tag())
+}
 
 /// Which model a sweep point runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -71,12 +128,13 @@ fn peak_memory_bytes() -> f64 {
         .map_or(f64::NAN, |kib| kib * 1024.0)
 }
 
-/// Every point's study (FE and spectral at each nominal size), validated before any run.
-pub fn plan(study: &Study) -> Result<Vec<(Model, f64, Study)>> {
+/// Every point's study (FE, then spectral, at each nominal size [m] of `sizes` in its order),
+/// validated before any run.
+pub fn plan(study: &Study, sizes: &[f64]) -> Result<Vec<(Model, f64, Study)>> {
     study.spectral()?;
     let mut out = Vec::new();
     for model in [Model::Fem, Model::Spectral] {
-        for h in NOMINAL_SIZES {
+        for &h in sizes {
             let point = study.at_resolution(h)?;
             if model == Model::Spectral {
                 point
@@ -97,10 +155,7 @@ pub fn preflight(
     plan: &[(Model, f64, Study)],
     dir: &std::path::Path,
 ) -> Result<crate::runner::Plan> {
-    let labels: Vec<String> = plan
-        .iter()
-        .map(|(m, h, _)| format!("sweep {} h = {h} m", m.tag()))
-        .collect();
+    let labels: Vec<String> = plan.iter().map(|(m, h, _)| point_label(*m, *h)).collect();
     let spectral_scenes = plan
         .iter()
         .filter(|(m, _, _)| *m == Model::Spectral)
@@ -136,7 +191,7 @@ pub fn run_point(
     let point = study.at_resolution(nominal)?;
     let case = point.case();
     let dt = point.fem.time_step();
-    let tag = format!("{}_{}mm", model.tag(), nominal * 1e3);
+    let tag = point_tag(model, nominal);
     let sub = dir.join(&tag);
     let (tips, spacing, wall_s) = match model {
         Model::Fem => {
@@ -206,51 +261,76 @@ pub fn with_errors(points: &[Point], duration: f64) -> Vec<Point> {
         .collect()
 }
 
-/// Runs every sweep point as a child `compare sweep-point` process of the executable `exe`,
-/// coarse to fine, FE then spectral; `on_point` sees each point as it arrives.
+/// The arguments of `compare sweep-point` for one point, after `--scene`, `--out` and
+/// `--result`: the model, the nominal size [m] and the budget of the run (the in-process sweep
+/// and the emitted jobs run exactly these).
+pub fn point_args(model: Model, nominal: f64, budget: preflight::Budget) -> Vec<String> {
+    vec![
+        "--model".into(),
+        model.tag().into(),
+        "--size".into(),
+        nominal.to_string(),
+        "--max-memory".into(),
+        (budget.max_bytes as f64 / (1u64 << 30) as f64).to_string(),
+        "--max-steps".into(),
+        budget.max_steps.to_string(),
+    ]
+}
+
+/// Runs every point of `plan` as a child `compare sweep-point` process of the executable `exe`,
+/// in the plan's order; `on_point` sees each point as it arrives.
 pub fn run_children(
     exe: &std::path::Path,
     scene: &std::path::Path,
     dir: &std::path::Path,
     budget: preflight::Budget,
+    plan: &[(Model, f64, Study)],
     on_point: &mut dyn FnMut(&Point),
 ) -> Result<Vec<Point>> {
     let mut points = Vec::new();
-    for model in [Model::Fem, Model::Spectral] {
-        for h in NOMINAL_SIZES {
-            let tag = model.tag();
-            let out = std::process::Command::new(exe)
-                .args(["sweep-point", "--model", tag, "--size", &h.to_string(), "--scene"])
-                .arg(scene)
-                .arg("--out")
-                .arg(dir)
-                .arg("--max-memory")
-                .arg((budget.max_bytes as f64 / (1u64 << 30) as f64).to_string())
-                .arg("--max-steps")
-                .arg(budget.max_steps.to_string())
-                .stderr(std::process::Stdio::inherit())
-                .output()
-                .with_context(|| format!("starting {}", exe.display()))?;
-            if !out.status.success() {
-                return Err(anyhow!("sweep point {tag} h = {h} m failed ({})", out.status));
-            }
-            let mut rd = csv::Reader::from_reader(out.stdout.as_slice());
-            let p: Point = rd
-                .deserialize()
-                .next()
-                .ok_or_else(|| anyhow!("sweep point {tag} h = {h} m printed no result"))??;
-            on_point(&p);
-            points.push(p);
+    for &(model, h, _) in plan {
+        let label = point_label(model, h);
+        let out = std::process::Command::new(exe)
+            .arg("sweep-point")
+            .arg("--scene")
+            .arg(scene)
+            .arg("--out")
+            .arg(dir)
+            .args(point_args(model, h, budget))
+            .stderr(std::process::Stdio::inherit())
+            .output()
+            .with_context(|| format!("starting {}", exe.display()))?;
+        if !out.status.success() {
+            return Err(anyhow!("{label} failed ({})", out.status));
         }
+        let p = read_point(&out.stdout).with_context(|| format!("{label}: reading its result"))?;
+        on_point(&p);
+        points.push(p);
     }
     Ok(points)
 }
 
+/// One point as CSV (header + row): what a point prints on stdout or writes to its result file.
+pub fn point_csv(p: &Point) -> Result<Vec<u8>> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.serialize(p)?;
+    w.into_inner().map_err(|e| anyhow!("{e}"))
+}
+
+/// The point of [`point_csv`]'s text: exactly one row.
+pub fn read_point(csv_text: &[u8]) -> Result<Point> {
+    let mut rows = csv::Reader::from_reader(csv_text).into_deserialize::<Point>();
+    let p = rows.next().ok_or_else(|| anyhow!("no point in it"))??;
+    anyhow::ensure!(rows.next().is_none(), "more than one point in it");
+    Ok(p)
+}
+
 /// Prints one point as CSV (header + row) on stdout: the child's answer to its parent.
 pub fn print_point(p: &Point) -> Result<()> {
-    let mut w = csv::Writer::from_writer(std::io::stdout());
-    w.serialize(p)?;
-    w.flush()?;
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    out.write_all(&point_csv(p)?)?;
+    out.flush()?;
     Ok(())
 }
 
