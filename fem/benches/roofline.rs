@@ -1,0 +1,132 @@
+//! The machine's two ceilings for the FE step (its roofline), measured here:
+//! - `fma_peak`: fused multiply-adds per second on one core, from 16 independent 8-wide chains
+//!   (AVX-512 when the CPU has it, else AVX2; the portable build otherwise). Throughput is
+//!   reported in FMA lanes (elements): flops = 2 × elements.
+//! - `triad`: a[i] = b[i] + s c[i] (the STREAM triad, 3 × 8 B per element moved, reported in
+//!   bytes) on 24 MiB, the size of a paper-resolution step's working set (u, v, f, m and the
+//!   mesh's small tables, which a large last-level cache can hold), and on 1 GiB (main memory);
+//!   on one thread and on all of the pool's threads.
+//!
+//! The step needs about 95 flops and moves about 136 B per element (docs/performance.md gives the
+//! count), 0.7 flop/B: far below any machine's balance, so its bound is the bandwidth.
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use rayon::prelude::*;
+use std::hint::black_box;
+
+const CHAINS: usize = 16;
+const ROUNDS: usize = 4096;
+
+/// FMA lanes one call of [`fma`] executes: 16 independent chains of `ROUNDS` x ← x·a + b each,
+/// on the widest vectors the CPU has (8, 4 or 1 lanes).
+fn fma_lanes() -> usize {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            return CHAINS * ROUNDS * 8;
+        }
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
+            return CHAINS * ROUNDS * 4;
+        }
+    }
+    CHAINS * ROUNDS
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn fma_avx512(a: f64, b: f64) -> f64 {
+    use std::arch::x86_64::*;
+    let (va, vb) = (_mm512_set1_pd(a), _mm512_set1_pd(b));
+    let mut x = [_mm512_set1_pd(1.0); CHAINS];
+    for _ in 0..ROUNDS {
+        for v in x.iter_mut() {
+            *v = _mm512_fmadd_pd(*v, va, vb);
+        }
+    }
+    x.iter().map(|v| _mm512_reduce_add_pd(*v)).sum()
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn fma_avx2(a: f64, b: f64) -> f64 {
+    use std::arch::x86_64::*;
+    let (va, vb) = (_mm256_set1_pd(a), _mm256_set1_pd(b));
+    let mut x = [_mm256_set1_pd(1.0); CHAINS];
+    for _ in 0..ROUNDS {
+        for v in x.iter_mut() {
+            *v = _mm256_fmadd_pd(*v, va, vb);
+        }
+    }
+    let mut out = [0.0; 4];
+    x.iter()
+        .map(|v| {
+            // SAFETY: `out` holds 4 f64, the width of one AVX register.
+            unsafe { _mm256_storeu_pd(out.as_mut_ptr(), *v) };
+            out.iter().sum::<f64>()
+        })
+        .sum()
+}
+
+fn fma(a: f64, b: f64) -> f64 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the CPU reported AVX-512F at run time.
+            return unsafe { fma_avx512(a, b) };
+        }
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
+            // SAFETY: the CPU reported AVX2 and FMA at run time.
+            return unsafe { fma_avx2(a, b) };
+        }
+    }
+    let mut x = [1.0f64; CHAINS];
+    for _ in 0..ROUNDS {
+        for v in x.iter_mut() {
+            *v = v.mul_add(a, b);
+        }
+    }
+    x.iter().sum()
+}
+
+fn bench_fma(c: &mut Criterion) {
+    let mut g = c.benchmark_group("roofline");
+    g.throughput(Throughput::Elements(fma_lanes() as u64));
+    g.bench_function("fma_peak_one_core", |bch| {
+        bch.iter(|| fma(black_box(0.999_999), black_box(1e-9)))
+    });
+    g.finish();
+}
+
+fn triad(a: &mut [f64], b: &[f64], c: &[f64], s: f64, threads: bool) {
+    if threads {
+        a.par_chunks_mut(1 << 14)
+            .zip(b.par_chunks(1 << 14).zip(c.par_chunks(1 << 14)))
+            .for_each(|(a, (b, c))| {
+                for ((a, b), c) in a.iter_mut().zip(b).zip(c) {
+                    *a = b + s * c;
+                }
+            });
+    } else {
+        for ((a, b), c) in a.iter_mut().zip(b).zip(c) {
+            *a = b + s * c;
+        }
+    }
+}
+
+fn bench_triad(c: &mut Criterion) {
+    let mut g = c.benchmark_group("roofline");
+    for (name, bytes) in [("24MiB", 24usize << 20), ("1GiB", 1usize << 30)] {
+        let n = bytes / 24;
+        let (mut a, b, cc) = (vec![0.0; n], vec![1.0; n], vec![2.0; n]);
+        g.throughput(Throughput::Bytes((24 * n) as u64));
+        for (label, threads) in [("one_thread", false), ("all_threads", true)] {
+            g.bench_function(format!("triad_{name}_{label}"), |bch| {
+                bch.iter(|| triad(&mut a, &b, &cc, black_box(3.0), threads))
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench_fma, bench_triad);
+criterion_main!(benches);
