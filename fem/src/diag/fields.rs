@@ -226,7 +226,7 @@ impl<'a> Snapshots<'a> {
     /// run then stops). When off, one compare per step and nothing else.
     #[inline]
     pub(crate) fn after_step(&mut self, model: &Model, state: &State) -> bool {
-        if self.every == 0 || state.step % self.every != 0 {
+        if self.every == 0 || !state.step.is_multiple_of(self.every) {
             return self.error.is_none();
         }
         self.take(model, state)

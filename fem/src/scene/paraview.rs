@@ -26,7 +26,7 @@ impl ParaviewSpec {
     /// last step when it is not one of those.
     pub fn count(&self, dt: f64, steps: u64) -> u64 {
         let every = self.every(dt);
-        steps / every + 1 + u64::from(steps % every != 0)
+        steps / every + 1 + u64::from(!steps.is_multiple_of(every))
     }
 }
 
