@@ -48,11 +48,12 @@ fn main() -> Result<()> {
         scene.time_step(),
         out_dir.display()
     );
-    if let Some(p) = scene.fem.paraview {
+    if let (Some(p), Some((count, each))) = (scene.fem.paraview, fem::solver::estimate::field_files(&scene)) {
         println!(
-            "ParaView: {} snapshots, one every {} steps, in {}",
-            p.count(scene.time_step(), estimate.steps),
+            "ParaView: {count} snapshots, one every {} steps, about {} each ({} in all), in {}",
             p.every(scene.time_step()),
+            preflight::budget::human(each),
+            preflight::budget::human(each.saturating_mul(count)),
             out_dir.join("fields.pvd").display()
         );
     }
