@@ -25,13 +25,13 @@ const SECONDS_PER_ELEMENT_STEP: f64 = 1.2e-8;
 /// Peak memory while one ParaView snapshot is built and written, per bulk element [B]: the
 /// snapshot's arrays, vtkio's copies of them and their base64 text (docs/outputs.md, "Budgets").
 /// Measured peak resident memory with `[fem.paraview]` minus without, centre crack: 1.54 kB at
-/// 500 × 250 elements, 0.82 kB at 1000 × 500 (the allocator keeps more of a small one); the
-/// larger, rounded up.
+/// 500 × 250 elements, 0.82 kB at 1000 × 500, 0.77 kB at 2000 × 1000 (the allocator keeps more
+/// of a small one); the largest, rounded up.
 const FIELD_BYTES_PER_ELEMENT: usize = 1600;
 
 /// Wall time to build and write one snapshot, per bulk element [s]: 1.7e-6 at 500 × 250
-/// elements, 2.4e-6 at 1000 × 500 (centre crack, 2 cores); rounded up.
-const FIELD_SECONDS_PER_ELEMENT: f64 = 2.5e-6;
+/// elements, 2.4e-6 at 1000 × 500, 2.8e-6 at 2000 × 1000 (centre crack, 2 cores); rounded up.
+const FIELD_SECONDS_PER_ELEMENT: f64 = 3e-6;
 
 /// Size of a snapshot's files per bulk element and per facet of the interface row [B]: the
 /// binary arrays (points, u, v, connectivity, offsets, type, five stresses: 153 B per element;
