@@ -254,12 +254,14 @@ fn a_bad_interval_is_refused_before_any_work_with_its_key_and_line() {
     );
 }
 
-/// A Python with the `vtk` module: `VTK_PYTHON`, else `python3`, else `/usr/bin/python3` (Debian's
-/// `python3-vtk9` installs for the system Python, which a version manager may shadow).
+/// A Python with the `vtk` module: `VTK_PYTHON` when set (and only it), else `python3`, else
+/// `/usr/bin/python3` (Debian's `python3-vtk9` installs for the system Python, which a version
+/// manager may shadow).
 fn python_with_vtk() -> Option<String> {
-    let candidates = std::env::var("VTK_PYTHON")
-        .into_iter()
-        .chain(["python3".to_string(), "/usr/bin/python3".to_string()]);
+    let candidates = match std::env::var("VTK_PYTHON") {
+        Ok(py) => vec![py],
+        Err(_) => vec!["python3".to_string(), "/usr/bin/python3".to_string()],
+    };
     candidates.into_iter().find(|py| {
         Command::new(py)
             .args(["-c", "import vtk"])
