@@ -1,5 +1,7 @@
-//! The time loop: steps from 0 to T, samples every `output_interval`, stops on instability
-//! (RunError::Unstable) or when asked to (RunError::Interrupted), with the output computed so far.
+//! The time loop: steps from 0 to T, samples every `output_interval` (and takes the ParaView
+//! snapshots a caller asks for), stops on instability (RunError::Unstable), when asked to
+//! (RunError::Interrupted) or when a snapshot cannot be written (RunError::FieldOutput), with the
+//! output computed so far.
 
 use crate::diag::fields::Snapshots;
 use crate::diag::{Observer, Recorder, tips};
