@@ -132,4 +132,17 @@ pub enum RunError {
         /// Output recorded up to there: the samples taken before the stop.
         partial: Box<RunOutput>,
     },
+    /// A ParaView snapshot could not be written (disk full, folder removed, ...): the run stops
+    /// at once. `partial` holds what was computed so far.
+    #[error("field snapshot at step {step}, t = {time_s} s not written: {message}")]
+    FieldOutput {
+        /// Step of the snapshot.
+        step: u64,
+        /// Its time [s].
+        time_s: f64,
+        /// What failed.
+        message: String,
+        /// Output recorded up to there.
+        partial: Box<RunOutput>,
+    },
 }

@@ -25,6 +25,7 @@ pub use model::build::{build, build_with_row_map};
 pub use model::state::{Model, State, Workspace};
 /// Re-export of the vector type used at the API (`Vector2<f64>`), so callers need not depend on nalgebra.
 pub use nalgebra;
+pub use output::paraview::{FieldSink, FieldSnapshot, ParaviewWriter};
 pub use output::{
     ArrivalRecord, ContactMeanRecord, EnergyRecord, FaceRecord, FieldRecord, FrictionRecord, InterfaceRecord,
     KktRecord, ProbeRecord, ProfileRecord, ResidualStressRecord, RunOutput, RunRecord, TipRecord, write_csv,
@@ -32,4 +33,4 @@ pub use output::{
 pub use scene::Scene;
 pub use solver::central_difference::step;
 pub use solver::estimate::estimate;
-pub use solver::run::{run, run_with_progress};
+pub use solver::run::{run, run_with_fields, run_with_progress};

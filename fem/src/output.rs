@@ -1,4 +1,7 @@
-//! Output records (docs/solver-api.md) and their CSV writers; the only module that writes files.
+//! Output records (docs/solver-api.md) and their CSV writers, and the ParaView field files
+//! ([`paraview`]); the only module that writes files.
+
+pub mod paraview;
 
 use serde::Serialize;
 use std::io;

@@ -7,6 +7,7 @@ mod damping;
 mod diagnostics;
 mod fem;
 mod interface_spec;
+mod paraview;
 mod problem;
 mod raw;
 
@@ -16,6 +17,7 @@ pub use diagnostics::Diagnostics;
 pub use fem::{FemSpec, InsertionRule, ModelKind};
 pub use interface_spec::{ContactFriction, ContactSurface, InterfaceZone};
 pub(crate) use interface_spec::{in_range, zone_of};
+pub use paraview::{MAX_FIELD_FILES, ParaviewSpec};
 pub use preflight::line_of;
 pub use problem::{Crack, Loading, Ramp};
 
@@ -297,6 +299,17 @@ fn validate(raw: RawScene) -> Result<Scene, SceneError> {
         Some(dt) => dt,
         None => limit * scene.fem.time_step_safety / fem::MAX_SAFETY,
     };
+    if let Some(p) = &scene.fem.paraview {
+        let pieces = if scene.crack.is_some() || scene.interface.is_some() {
+            2
+        } else {
+            1
+        };
+        keep(
+            &mut errors,
+            paraview::file_count(p, duration, scene.time_step, pieces),
+        );
+    }
     if errors.is_empty() {
         Ok(scene)
     } else {

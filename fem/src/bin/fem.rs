@@ -1,5 +1,6 @@
 //! Thin command line: `fem SCENE.toml [--out DIR]` checks everything first (the scene, the
-//! budgets, the output folder), then runs the scene and writes the CSV records.
+//! budgets, the output folder), then runs the scene and writes the CSV records (and the ParaView
+//! snapshots when the scene asks for them).
 
 use anyhow::{Context, Result, anyhow, bail};
 use clap::Parser;
@@ -8,8 +9,8 @@ use std::path::PathBuf;
 
 /// Runs one scene with the hybrid (or standard) cohesive-contact FE model and writes its records
 /// as CSV (tips, interface, faces, contact, energy, arrivals, probes and the diagnostics the
-/// scene declares). A run that goes unstable, or is stopped with Ctrl-C, keeps what it computed
-/// and exits non-zero.
+/// scene declares), and ParaView field snapshots with `[fem.paraview]`. A run that goes
+/// unstable, or is stopped with Ctrl-C, keeps what it computed and exits non-zero.
 #[derive(Debug, Parser)]
 #[command(name = "fem", version)]
 struct Cli {
@@ -32,6 +33,13 @@ fn main() -> Result<()> {
         .check(&estimate)
         .map_err(|e| anyhow!("scene {}: {e}", cli.scene.display()))?;
     preflight::paths::claim(&out_dir, "fem").map_err(|e| anyhow!(e))?;
+    let mut fields = match scene.fem.paraview {
+        Some(_) => Some(
+            fem::ParaviewWriter::new(&out_dir, estimate.steps)
+                .with_context(|| format!("output folder {}: fields/", out_dir.display()))?,
+        ),
+        None => None,
+    };
     let stop = preflight::stop::on_signal().map_err(|e| anyhow!(e))?;
     println!(
         "{}: {} (dt = {:.4e} s); output in {}",
@@ -40,19 +48,29 @@ fn main() -> Result<()> {
         scene.time_step(),
         out_dir.display()
     );
+    if let (Some(p), Some((count, each))) = (scene.fem.paraview, fem::solver::estimate::field_files(&scene)) {
+        println!(
+            "ParaView: {count} snapshots, one every {} steps, about {} each ({} in all), in {}",
+            p.every(scene.time_step()),
+            preflight::budget::human(each),
+            preflight::budget::human(each.saturating_mul(count)),
+            out_dir.join("fields.pvd").display()
+        );
+    }
     let bar = ProgressBar::new(estimate.steps);
     bar.set_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} steps {elapsed_precise} eta {eta}")
             .context("progress style")?,
     );
     let started = std::time::Instant::now();
-    let result = fem::run_with_progress(
+    let result = fem::run_with_fields(
         &scene,
         &mut |done, total| {
             bar.set_length(total);
             bar.set_position(done);
         },
         stop,
+        fields.as_mut().map(|w| w as &mut dyn fem::FieldSink),
     );
     bar.finish();
     let (output, failure) = match result {
@@ -74,6 +92,17 @@ fn main() -> Result<()> {
             *partial,
             Some(format!("stopped on request at step {step}, t = {time_s} s")),
         ),
+        Err(fem::RunError::FieldOutput {
+            step,
+            time_s,
+            message,
+            partial,
+        }) => (
+            *partial,
+            Some(format!(
+                "stopped at step {step}, t = {time_s} s: a field snapshot could not be written: {message}"
+            )),
+        ),
         Err(e) => return Err(e.into()),
     };
     let files =
@@ -88,6 +117,17 @@ fn main() -> Result<()> {
     );
     for f in files {
         println!("wrote {}", f.display());
+    }
+    if let Some(w) = &fields {
+        let pvd = w
+            .finish()
+            .with_context(|| format!("writing {}", out_dir.join("fields.pvd").display()))?;
+        println!(
+            "wrote {} ({} snapshots in {})",
+            pvd.display(),
+            w.snapshots(),
+            out_dir.join("fields").display()
+        );
     }
     let record = output.record();
     if record.dropped_contacts > 0 {

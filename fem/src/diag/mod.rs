@@ -1,6 +1,7 @@
 //! Read-only observers of the state that emit the output records.
 
 pub(crate) mod energy;
+pub(crate) mod fields;
 pub(crate) mod section4;
 pub(crate) mod tips;
 pub(crate) mod tractions;

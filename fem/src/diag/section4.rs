@@ -70,7 +70,7 @@ fn signed_distance(model: &Model, state: &State, face: &[u32], i0: usize, p: Vec
 }
 
 /// True gaps [m] of the + and − copies of column i (> 0 open).
-fn gaps(model: &Model, state: &State, row: &InterfaceRow, i: usize) -> (f64, f64) {
+pub(crate) fn gaps(model: &Model, state: &State, row: &InterfaceRow, i: usize) -> (f64, f64) {
     let gp = signed_distance(model, state, &row.minus, i, pos(model, state, row.plus[i]));
     let gm = -signed_distance(model, state, &row.plus, i, pos(model, state, row.minus[i]));
     (gp, gm)
@@ -78,7 +78,7 @@ fn gaps(model: &Model, state: &State, row: &InterfaceRow, i: usize) -> (f64, f64
 
 /// Compressive tractions [Pa] carried by the + and − copies of column i: the slave contact
 /// pressure (hybrid) or ε_n ⟨−δ_n⟩₊ of the frozen twin pair (standard, eq. 4).
-fn compressive(model: &Model, state: &State, row: &InterfaceRow, i: usize) -> (f64, f64) {
+pub(crate) fn compressive(model: &Model, state: &State, row: &InterfaceRow, i: usize) -> (f64, f64) {
     match (model.closing, &state.contact) {
         (ClosingTreatment::Standard { eps_n }, _) => {
             let mut n = Vector2::zeros();
@@ -150,7 +150,12 @@ pub(crate) fn kkt(model: &Model, state: &State) -> KktRecord {
 }
 
 /// Gauss stresses [Pa] of element e.
-fn element_stresses(model: &Model, state: &State, e: usize, grads: &bulk::GaussGradients) -> [[f64; 3]; 4] {
+pub(crate) fn element_stresses(
+    model: &Model,
+    state: &State,
+    e: usize,
+    grads: &bulk::GaussGradients,
+) -> [[f64; 3]; 4] {
     let ue = model.grid.element_nodes(e).map(|n| state.u[n as usize]);
     bulk::gauss_stresses(grads, &model.d, &ue)
 }

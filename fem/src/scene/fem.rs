@@ -7,6 +7,7 @@ use super::diagnostics::{Diagnostics, diagnostics};
 use super::interface_spec::{
     ContactFriction, ContactSurface, InterfaceZone, contact_friction, sine_polyline, zones_and_surface,
 };
+use super::paraview::{ParaviewSpec, paraview};
 use super::problem::Crack;
 use super::raw::RawFem;
 use crate::error::SceneError;
@@ -89,6 +90,8 @@ pub struct FemSpec {
     pub probes: Vec<[f64; 2]>,
     /// Side-wise boundary conditions; `None`: Westergaard displacements on the whole boundary.
     pub boundary: Option<BoundarySpec>,
+    /// ParaView field snapshots (`[fem.paraview]`); `None`: none are taken.
+    pub paraview: Option<ParaviewSpec>,
 }
 
 fn is_multiple(length: f64, h: f64) -> bool {
@@ -158,6 +161,7 @@ pub(crate) fn validate_fem(
     let contact_friction = keep(errors, contact_friction(f));
     let diagnostics = keep(errors, diagnostics(f, duration));
     let probes = keep(errors, probes(f));
+    let paraview = keep(errors, paraview(f, duration));
     let polyline = match (geometry_ok, &blocks) {
         (true, Some((upper_offset, _))) => keep(errors, interface_row(f, crack, *upper_offset)),
         _ => None,
@@ -192,6 +196,7 @@ pub(crate) fn validate_fem(
         diagnostics: diagnostics?,
         probes: probes?,
         boundary,
+        paraview: paraview?,
     })
 }
 

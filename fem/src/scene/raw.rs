@@ -118,6 +118,14 @@ pub(crate) struct RawFem {
     pub snapshot_window: Option<[[f64; 2]; 2]>,
     pub probes: Option<Vec<[f64; 2]>>,
     pub boundary: Option<RawBoundary>,
+    pub paraview: Option<RawParaview>,
+}
+
+/// `[fem.paraview]`: ParaView field snapshots.
+#[derive(Debug, Clone, Copy, Deserialize)]
+pub(crate) struct RawParaview {
+    /// Optional in the form so that a misspelt key is reported as unknown, next to this one missing.
+    pub interval: Option<f64>,
 }
 
 #[derive(Debug, Clone, Copy, Deserialize)]

@@ -22,12 +22,55 @@ const BYTES_PER_ELEMENT: usize = 256;
 /// the centre crack (`compare sweep`): 1.3e-8 at h = 2 mm, 1.06e-8 at 1 mm, 0.90e-8 at 0.5 mm.
 const SECONDS_PER_ELEMENT_STEP: f64 = 1.2e-8;
 
+/// Peak memory while one ParaView snapshot is built and written, per bulk element [B]: the
+/// snapshot's arrays, vtkio's copies of them and their base64 text (docs/outputs.md, "Budgets").
+/// Measured peak resident memory with `[fem.paraview]` minus without, centre crack: 1.54 kB at
+/// 500 × 250 elements, 0.82 kB at 1000 × 500, 0.77 kB at 2000 × 1000 (the allocator keeps more
+/// of a small one); the largest, rounded up.
+const FIELD_BYTES_PER_ELEMENT: usize = 1600;
+
+/// Wall time to build and write one snapshot, per bulk element [s]: 1.7e-6 at 500 × 250
+/// elements, 2.4e-6 at 1000 × 500, 2.8e-6 at 2000 × 1000 (centre crack, 2 cores); rounded up.
+const FIELD_SECONDS_PER_ELEMENT: f64 = 3e-6;
+
+/// Size of a snapshot's files per bulk element and per facet of the interface row [B]: the
+/// binary arrays (points, u, v, connectivity, offsets, type, five stresses: 153 B per element;
+/// two points and two lines per facet: 354 B) as base64 text, 4/3 of that.
+const FIELD_FILE_BYTES: [f64; 2] = [205.0, 480.0];
+
+/// The ParaView snapshots of a run of `scene`: (how many, bytes on disk of each), `None`
+/// without `[fem.paraview]`.
+pub fn field_files(scene: &Scene) -> Option<(u64, u64)> {
+    let p = scene.fem.paraview?;
+    let (nx, ny) = elements(scene);
+    let dt = scene.time_step();
+    let count = p.count(dt, (scene.duration() / dt).ceil() as u64);
+    let row = if scene.interface.is_some() || scene.crack.is_some() {
+        nx
+    } else {
+        0.0
+    };
+    Some((
+        count,
+        (FIELD_FILE_BYTES[0] * nx * ny + FIELD_FILE_BYTES[1] * row) as u64,
+    ))
+}
+
+/// Elements along x and y.
+fn elements(scene: &Scene) -> (f64, f64) {
+    let f = &scene.fem;
+    let h = f.element_size;
+    (
+        ((f.x_range[1] - f.x_range[0]) / h).round(),
+        ((f.y_range[1] - f.y_range[0]) / h).round(),
+    )
+}
+
 /// Steps and memory of a run of `scene` (docs/outputs.md, "Budgets").
 pub fn estimate(scene: &Scene) -> Estimate {
     let f = &scene.fem;
     let h = f.element_size;
-    let nx = ((f.x_range[1] - f.x_range[0]) / h).round();
-    let ny = ((f.y_range[1] - f.y_range[0]) / h).round();
+    let (nx, ny) = elements(scene);
     let dt = scene.time_step();
     let steps_f = (scene.duration() / dt).ceil();
     let every = (f.output_interval / dt).round().max(1.0);
@@ -53,14 +96,15 @@ pub fn estimate(scene: &Scene) -> Estimate {
     let snapshots = d.snapshot_times.len() as f64
         * (window_elements * size_of::<FieldRecord>() as f64
             + (nx + 1.0) * size_of::<ProfileRecord>() as f64);
-    Estimate {
+    let fields = field_files(scene).map_or(0.0, |(count, _)| count as f64);
+    let mut estimate = Estimate {
         steps: if steps_f.is_finite() {
             steps_f as u64
         } else {
             u64::MAX
         },
         steps_keys: "loading.duration, fem.element_size or fem.time_step_safety",
-        seconds: steps_f * nx * ny * SECONDS_PER_ELEMENT_STEP,
+        seconds: (steps_f * SECONDS_PER_ELEMENT_STEP + fields * FIELD_SECONDS_PER_ELEMENT) * nx * ny,
         parts: vec![
             Part {
                 what: format!("model ({nx} × {ny} elements)"),
@@ -78,7 +122,15 @@ pub fn estimate(scene: &Scene) -> Estimate {
                 key: "fem.diagnostics.snapshot_times",
             },
         ],
+    };
+    if fields > 0.0 {
+        estimate.parts.push(Part {
+            what: "ParaView snapshot (one at a time)".to_string(),
+            bytes: bytes_of(nx * ny, FIELD_BYTES_PER_ELEMENT),
+            key: "fem.paraview",
+        });
     }
+    estimate
 }
 
 #[cfg(test)]
@@ -116,6 +168,28 @@ mod tests {
         ]));
         let msg = Budget::default().check(&e).unwrap_err();
         assert!(msg.contains("fem.output_interval"), "{msg}");
+    }
+
+    #[test]
+    fn field_snapshots_are_priced_only_when_declared() {
+        let off = estimate(&scene(&[]));
+        let on = estimate(&scene(&[(
+            "\n[spectral]",
+            "\n[fem.paraview]\ninterval = 1e-3\n\n[spectral]",
+        )]));
+        // 500 × 250 elements at 1.6 kB while a snapshot is written
+        assert_eq!(on.bytes() - off.bytes(), 125_000 * 1600);
+        assert!(on.seconds > off.seconds);
+        assert_eq!(field_files(&scene(&[])), None);
+        let (count, bytes) = field_files(&scene(&[(
+            "\n[spectral]",
+            "\n[fem.paraview]\ninterval = 1e-3\n\n[spectral]",
+        )]))
+        .unwrap();
+        // T = 0.02 s: t = 0, 20 intervals (to whole steps) and possibly the last step
+        assert!((21..=22).contains(&count), "{count}");
+        // a 125 000-element bulk file measured 25.6 MB, the 500-facet crack file 0.24 MB
+        assert!((25_000_000..26_500_000).contains(&bytes), "{bytes}");
     }
 
     #[test]

@@ -1,11 +1,15 @@
-//! The time loop: steps from 0 to T, samples every `output_interval`, stops on instability
-//! (RunError::Unstable) or when asked to (RunError::Interrupted), with the output computed so far.
+//! The time loop: steps from 0 to T, samples every `output_interval` (and takes the ParaView
+//! snapshots a caller asks for), stops on instability (RunError::Unstable), when asked to
+//! (RunError::Interrupted) or when a snapshot cannot be written (RunError::FieldOutput), with the
+//! output computed so far.
 
+use crate::diag::fields::Snapshots;
 use crate::diag::{Observer, Recorder, tips};
 use crate::error::RunError;
 use crate::model::build::build;
 use crate::model::state::{Model, State, Workspace};
 use crate::output::RunOutput;
+use crate::output::paraview::FieldSink;
 use crate::scene::Scene;
 use crate::solver::central_difference::step;
 use crate::solver::profile::Phase;
@@ -23,6 +27,19 @@ pub fn run_with_progress(
     scene: &Scene,
     progress: &mut dyn FnMut(u64, u64),
     stop: &AtomicBool,
+) -> Result<RunOutput, RunError> {
+    run_with_fields(scene, progress, stop, None)
+}
+
+/// As [`run_with_progress`]; with `fields`, the ParaView snapshots the scene declares
+/// (`[fem.paraview]`) are computed and handed to it as they are taken: at t = 0, every interval,
+/// and at the last step however the run ends. A snapshot the sink cannot take stops the run with
+/// `RunError::FieldOutput`. Without `[fem.paraview]` or without `fields`, none is computed.
+pub fn run_with_fields(
+    scene: &Scene,
+    progress: &mut dyn FnMut(u64, u64),
+    stop: &AtomicBool,
+    fields: Option<&mut dyn FieldSink>,
 ) -> Result<RunOutput, RunError> {
     let (model, mut state, mut ws) = build(scene)?;
     let dt = model.dt;
@@ -43,6 +60,8 @@ pub fn run_with_progress(
         ..RunOutput::default()
     };
     Recorder { out: &mut out }.observe(&model, &state, &ws);
+    let mut snapshots = Snapshots::new(scene, dt, fields);
+    snapshots.after_step(&model, &state);
     let mut done = 0;
     while done < total {
         let end = (done + report).min(total);
@@ -59,14 +78,22 @@ pub fn run_with_progress(
                     Recorder { out: &mut out }.observe(&model, &state, &ws);
                     ws.clock.lap(Phase::Diagnostics);
                 }
-                if stop.load(Ordering::Relaxed) {
+                if !snapshots.after_step(&model, &state) || stop.load(Ordering::Relaxed) {
                     return Some(Ok(()));
                 }
             }
             None
         });
         if let Some(Ok(())) = failed {
-            finish(&model, &state, &ws, &mut out);
+            finish(&model, &state, &ws, &mut out, &mut snapshots);
+            if let Some(e) = snapshots.error() {
+                return Err(RunError::FieldOutput {
+                    step: state.step,
+                    time_s: state.t,
+                    message: e.to_string(),
+                    partial: Box::new(out),
+                });
+            }
             return Err(RunError::Interrupted {
                 step: state.step,
                 time_s: state.t,
@@ -76,7 +103,7 @@ pub fn run_with_progress(
         if let Some(Err(b)) = failed {
             let x = model.grid.x0[b.node];
             let v = state.v[b.node];
-            finish(&model, &state, &ws, &mut out);
+            finish(&model, &state, &ws, &mut out, &mut snapshots);
             return Err(RunError::Unstable {
                 step: state.step,
                 time_s: state.t,
@@ -90,12 +117,21 @@ pub fn run_with_progress(
         done = end;
         progress(done, total);
     }
-    finish(&model, &state, &ws, &mut out);
-    Ok(out)
+    finish(&model, &state, &ws, &mut out, &mut snapshots);
+    match snapshots.error() {
+        Some(e) => Err(RunError::FieldOutput {
+            step: state.step,
+            time_s: state.t,
+            message: e.to_string(),
+            partial: Box::new(out),
+        }),
+        None => Ok(out),
+    }
 }
 
-/// The records computed once, when the run ends (at T or before).
-fn finish(model: &Model, state: &State, ws: &Workspace, out: &mut RunOutput) {
+/// The records computed once, when the run ends (at T or before), and the last snapshot.
+fn finish(model: &Model, state: &State, ws: &Workspace, out: &mut RunOutput, snapshots: &mut Snapshots) {
+    snapshots.last(model, state);
     out.steps = state.step;
     out.arrivals = tips::arrivals(model, state);
     out.friction = crate::diag::energy::friction_records(model, state);

@@ -1,0 +1,415 @@
+//! ParaView field output: each snapshot as VTK UnstructuredGrid XML files (`.vtu`, written and
+//! read with `vtkio`), the series as a ParaView collection (`fields.pvd`: time → files).
+//! docs/outputs.md lists the files, the arrays and their units.
+//!
+//! The pieces are generic unstructured meshes (points, cells of VTK type line 3, triangle 5 or
+//! quad 9, point and cell arrays), so other meshes can reuse the writer. Arrays are written in
+//! VTK's inline binary form (base64 of little-endian f64): a value read back is the value written,
+//! to the bit, and the files are identical byte for byte between runs of the same scene.
+
+use std::fmt::Write as _;
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
+use vtkio::model::{
+    Attribute, Attributes, ByteOrder, CellType, Cells, DataArray, DataSet, ElementType, IOBuffer, Piece,
+    UnstructuredGridPiece, Version, VertexNumbers, Vtk,
+};
+
+/// Shape of a cell, with its VTK cell type number.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CellShape {
+    /// Two-node segment (VTK_LINE = 3).
+    Line,
+    /// Three-node triangle, counter-clockwise (VTK_TRIANGLE = 5).
+    Triangle,
+    /// Four-node quadrilateral, counter-clockwise (VTK_QUAD = 9).
+    Quad,
+}
+
+impl CellShape {
+    /// Number of nodes of the shape.
+    pub fn nodes(self) -> usize {
+        match self {
+            CellShape::Line => 2,
+            CellShape::Triangle => 3,
+            CellShape::Quad => 4,
+        }
+    }
+
+    fn vtk(self) -> CellType {
+        match self {
+            CellShape::Line => CellType::Line,
+            CellShape::Triangle => CellType::Triangle,
+            CellShape::Quad => CellType::Quad,
+        }
+    }
+}
+
+/// Values of one data array, one entry per point or per cell.
+#[derive(Debug, Clone, PartialEq)]
+pub enum FieldValues {
+    /// One number per entry.
+    Scalars(Vec<f64>),
+    /// An in-plane vector per entry, written with a zero z component (3 components) so that
+    /// ParaView's Warp By Vector and glyph filters apply to it directly.
+    Vectors(Vec<[f64; 2]>),
+    /// A small integer per entry (states, flags).
+    Integers(Vec<i32>),
+}
+
+impl FieldValues {
+    /// Number of entries.
+    pub fn len(&self) -> usize {
+        match self {
+            FieldValues::Scalars(v) => v.len(),
+            FieldValues::Vectors(v) => v.len(),
+            FieldValues::Integers(v) => v.len(),
+        }
+    }
+
+    /// Whether there are no entries.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// One named data array (the names and units are listed in docs/outputs.md).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FieldArray {
+    /// Array name as ParaView shows it.
+    pub name: String,
+    /// The values.
+    pub values: FieldValues,
+}
+
+impl FieldArray {
+    /// A named array.
+    pub fn new(name: &str, values: FieldValues) -> FieldArray {
+        FieldArray {
+            name: name.to_string(),
+            values,
+        }
+    }
+}
+
+/// One unstructured mesh with its data: what one `.vtu` file holds.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FieldPiece {
+    /// Reference positions X of the points [m] (written with z = 0).
+    pub points: Vec<[f64; 2]>,
+    /// Point indices of every cell, cell after cell.
+    pub connectivity: Vec<u64>,
+    /// End of each cell in `connectivity` (VTK's offsets: the first cell is `0..offsets[0]`).
+    pub offsets: Vec<u64>,
+    /// Shape of each cell.
+    pub shapes: Vec<CellShape>,
+    /// Arrays with one entry per point.
+    pub point_data: Vec<FieldArray>,
+    /// Arrays with one entry per cell.
+    pub cell_data: Vec<FieldArray>,
+}
+
+impl FieldPiece {
+    /// Appends a cell of `shape` through the points `nodes` (counter-clockwise for a face).
+    pub fn push_cell(&mut self, shape: CellShape, nodes: &[u32]) {
+        debug_assert_eq!(nodes.len(), shape.nodes());
+        self.connectivity.extend(nodes.iter().map(|&n| u64::from(n)));
+        self.offsets.push(self.connectivity.len() as u64);
+        self.shapes.push(shape);
+    }
+
+    /// Number of cells.
+    pub fn num_cells(&self) -> usize {
+        self.shapes.len()
+    }
+
+    /// The point array called `name`, if any.
+    pub fn point_array(&self, name: &str) -> Option<&FieldValues> {
+        self.point_data.iter().find(|a| a.name == name).map(|a| &a.values)
+    }
+
+    /// The cell array called `name`, if any.
+    pub fn cell_array(&self, name: &str) -> Option<&FieldValues> {
+        self.cell_data.iter().find(|a| a.name == name).map(|a| &a.values)
+    }
+}
+
+/// The fields of one time step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FieldSnapshot {
+    /// Step index [-].
+    pub step: u64,
+    /// Time [s].
+    pub t: f64,
+    /// The bulk elements and every node.
+    pub bulk: FieldPiece,
+    /// The interface row as line cells (`None` without a pre-crack or an interface).
+    pub crack: Option<FieldPiece>,
+}
+
+/// Receives the snapshots of a run as they are taken (`run_with_fields`); `Send` because the
+/// time steps run on a rayon pool thread.
+pub trait FieldSink: Send {
+    /// Takes one snapshot; an error stops the run (`RunError::FieldOutput`).
+    fn snapshot(&mut self, snapshot: FieldSnapshot) -> io::Result<()>;
+}
+
+/// Folder of the snapshot files inside the run's output folder.
+pub const FIELDS_DIR: &str = "fields";
+
+/// The collection file, beside [`FIELDS_DIR`].
+pub const COLLECTION: &str = "fields.pvd";
+
+/// Writes each snapshot as `fields/bulk_<step>.vtu` (+ `fields/crack_<step>.vtu`) at once, and the
+/// collection `fields.pvd` listing them in [`ParaviewWriter::finish`].
+#[derive(Debug)]
+pub struct ParaviewWriter {
+    dir: PathBuf,
+    digits: usize,
+    /// (time [s], files relative to `dir`) per snapshot, in the order taken.
+    written: Vec<(f64, Vec<String>)>,
+}
+
+impl ParaviewWriter {
+    /// A writer into `dir` for a run of `steps` steps (the step numbers in the file names are
+    /// zero-padded to its width, at least 6 digits, so that the files sort in time order).
+    /// Creates `dir/fields`: a folder that cannot be created is refused before the run.
+    pub fn new(dir: &Path, steps: u64) -> io::Result<ParaviewWriter> {
+        std::fs::create_dir_all(dir.join(FIELDS_DIR))?;
+        Ok(ParaviewWriter {
+            dir: dir.to_path_buf(),
+            digits: steps.to_string().len().max(6),
+            written: Vec::new(),
+        })
+    }
+
+    /// Snapshots written so far.
+    pub fn snapshots(&self) -> usize {
+        self.written.len()
+    }
+
+    /// Writes `fields.pvd`: every snapshot written, in time order, the bulk as part 0 and the
+    /// crack as part 1 (ParaView shows them as two blocks). Returns its path.
+    pub fn finish(&self) -> io::Result<PathBuf> {
+        let mut text = String::from(
+            "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n",
+        );
+        for (t, files) in &self.written {
+            for (part, file) in files.iter().enumerate() {
+                let name = if part == 0 { "bulk" } else { "crack" };
+                writeln!(
+                    text,
+                    "    <DataSet timestep=\"{t:e}\" group=\"\" part=\"{part}\" name=\"{name}\" file=\"{file}\"/>"
+                )
+                .expect("invariant: writing to a String cannot fail");
+            }
+        }
+        text.push_str("  </Collection>\n</VTKFile>\n");
+        let path = self.dir.join(COLLECTION);
+        std::fs::write(&path, text)?;
+        Ok(path)
+    }
+}
+
+impl FieldSink for ParaviewWriter {
+    fn snapshot(&mut self, snapshot: FieldSnapshot) -> io::Result<()> {
+        let digits = self.digits;
+        let step = snapshot.step;
+        let mut files = Vec::new();
+        for (name, piece) in [("bulk", Some(snapshot.bulk)), ("crack", snapshot.crack)] {
+            let Some(piece) = piece else { continue };
+            let file = format!("{FIELDS_DIR}/{name}_{step:0digits$}.vtu");
+            write_vtu(&self.dir.join(&file), piece)?;
+            files.push(file);
+        }
+        self.written.push((snapshot.t, files));
+        Ok(())
+    }
+}
+
+fn vtk_array(a: FieldArray) -> Attribute {
+    let (elem, data) = match a.values {
+        FieldValues::Scalars(v) => (scalars(), IOBuffer::F64(v)),
+        FieldValues::Vectors(v) => (
+            ElementType::Vectors,
+            IOBuffer::F64(v.iter().flat_map(|p| [p[0], p[1], 0.0]).collect()),
+        ),
+        FieldValues::Integers(v) => (scalars(), IOBuffer::I32(v)),
+    };
+    Attribute::DataArray(DataArray {
+        name: a.name,
+        elem,
+        data,
+    })
+}
+
+fn scalars() -> ElementType {
+    ElementType::Scalars {
+        num_comp: 1,
+        lookup_table: None,
+    }
+}
+
+/// Writes `piece` as a VTK UnstructuredGrid XML file at `path`.
+pub fn write_vtu(path: &Path, piece: FieldPiece) -> io::Result<()> {
+    let vtk = Vtk {
+        version: Version::new_xml(1, 0),
+        title: String::new(),
+        byte_order: ByteOrder::LittleEndian,
+        file_path: None,
+        data: DataSet::inline(UnstructuredGridPiece {
+            points: IOBuffer::F64(piece.points.iter().flat_map(|p| [p[0], p[1], 0.0]).collect()),
+            cells: Cells {
+                cell_verts: VertexNumbers::XML {
+                    connectivity: piece.connectivity,
+                    offsets: piece.offsets,
+                },
+                types: piece.shapes.iter().map(|s| s.vtk()).collect(),
+            },
+            data: Attributes {
+                point: piece.point_data.into_iter().map(vtk_array).collect(),
+                cell: piece.cell_data.into_iter().map(vtk_array).collect(),
+            },
+        }),
+    };
+    let mut w = BufWriter::new(std::fs::File::create(path)?);
+    vtk.write_xml(&mut w)
+        .map_err(|e| io::Error::other(format!("{}: {e}", path.display())))?;
+    w.flush()
+}
+
+fn bad(path: &Path, what: impl std::fmt::Display) -> io::Error {
+    io::Error::new(io::ErrorKind::InvalidData, format!("{}: {what}", path.display()))
+}
+
+/// Reads a `.vtu` file written by [`write_vtu`] back (tests, post-processing): 3-component float
+/// arrays become [`FieldValues::Vectors`] (their z dropped), 1-component float arrays
+/// [`FieldValues::Scalars`], 32-bit integer arrays [`FieldValues::Integers`].
+pub fn read_vtu(path: &Path) -> io::Result<FieldPiece> {
+    let vtk = Vtk::import(path).map_err(|e| bad(path, e))?;
+    let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
+        return Err(bad(path, "not an UnstructuredGrid"));
+    };
+    let Some(Piece::Inline(p)) = pieces.into_iter().next() else {
+        return Err(bad(path, "no inline piece"));
+    };
+    let xyz: Vec<f64> = p
+        .points
+        .cast_into()
+        .ok_or_else(|| bad(path, "points are not numbers"))?;
+    let (connectivity, offsets) = p.cells.cell_verts.into_xml();
+    let shapes = p
+        .cells
+        .types
+        .iter()
+        .map(|t| match t {
+            CellType::Line => Ok(CellShape::Line),
+            CellType::Triangle => Ok(CellShape::Triangle),
+            CellType::Quad => Ok(CellShape::Quad),
+            other => Err(bad(path, format!("cell type {other:?}"))),
+        })
+        .collect::<io::Result<Vec<_>>>()?;
+    let arrays = |attributes: Vec<Attribute>| -> io::Result<Vec<FieldArray>> {
+        attributes
+            .into_iter()
+            .filter_map(|a| match a {
+                Attribute::DataArray(a) => Some(a),
+                Attribute::Field { .. } => None,
+            })
+            .map(|a| {
+                let values = match (&a.data, a.elem.num_comp()) {
+                    (IOBuffer::I32(v), 1) => FieldValues::Integers(v.clone()),
+                    (IOBuffer::F64(v), 1) => FieldValues::Scalars(v.clone()),
+                    (IOBuffer::F64(v), 3) => {
+                        FieldValues::Vectors(v.chunks(3).map(|c| [c[0], c[1]]).collect())
+                    }
+                    (_, n) => return Err(bad(path, format!("array {}: {n} components", a.name))),
+                };
+                Ok(FieldArray { name: a.name, values })
+            })
+            .collect()
+    };
+    Ok(FieldPiece {
+        points: xyz.chunks(3).map(|c| [c[0], c[1]]).collect(),
+        connectivity,
+        offsets,
+        shapes,
+        point_data: arrays(p.data.point)?,
+        cell_data: arrays(p.data.cell)?,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square_and_segment() -> FieldPiece {
+        let mut p = FieldPiece {
+            points: vec![[0.0, 0.0], [1e-3, 0.0], [1e-3, 1e-3], [0.0, 1e-3], [2e-3, 0.0]],
+            ..FieldPiece::default()
+        };
+        p.push_cell(CellShape::Quad, &[0, 1, 2, 3]);
+        p.push_cell(CellShape::Triangle, &[1, 4, 2]);
+        p.push_cell(CellShape::Line, &[1, 4]);
+        p.point_data.push(FieldArray::new(
+            "displacement",
+            FieldValues::Vectors(
+                (0..5)
+                    .map(|k| [1e-7 * k as f64, -3.3e-9 / (k + 1) as f64])
+                    .collect(),
+            ),
+        ));
+        p.cell_data.push(FieldArray::new(
+            "sigma_xx",
+            FieldValues::Scalars(vec![1.0 / 3.0, -2.5e6, f64::MIN_POSITIVE]),
+        ));
+        p.cell_data.push(FieldArray::new(
+            "facet_state",
+            FieldValues::Integers(vec![0, 2, 3]),
+        ));
+        p
+    }
+
+    #[test]
+    fn a_piece_reads_back_to_the_bit_with_its_vtk_cell_types() {
+        let dir = std::env::temp_dir().join(format!("fem-paraview-unit-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("piece.vtu");
+        write_vtu(&path, square_and_segment()).unwrap();
+        // binary (base64) f64: the values come back exactly, so equality is the test
+        assert_eq!(read_vtu(&path).unwrap(), square_and_segment());
+        // (VTK itself reads the cell types as 9, 5, 3: tests/vtk/check_fields.py)
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.starts_with("<VTKFile type=\"UnstructuredGrid\""), "{text}");
+        // same piece, same bytes
+        let second = dir.join("again.vtu");
+        write_vtu(&second, square_and_segment()).unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), std::fs::read(&second).unwrap());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn the_collection_lists_every_snapshot_with_its_parts() {
+        let dir = std::env::temp_dir().join(format!("fem-paraview-pvd-{}", std::process::id()));
+        let mut w = ParaviewWriter::new(&dir, 1234).unwrap();
+        for (step, t) in [(0, 0.0), (10, 1.5e-5)] {
+            w.snapshot(FieldSnapshot {
+                step,
+                t,
+                bulk: square_and_segment(),
+                crack: Some(square_and_segment()),
+            })
+            .unwrap();
+        }
+        let pvd = std::fs::read_to_string(w.finish().unwrap()).unwrap();
+        assert!(
+            pvd.contains(
+                r#"timestep="1.5e-5" group="" part="1" name="crack" file="fields/crack_000010.vtu""#
+            ),
+            "{pvd}"
+        );
+        assert_eq!(pvd.matches("<DataSet").count(), 4, "{pvd}");
+        assert!(dir.join("fields/bulk_000000.vtu").is_file());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
