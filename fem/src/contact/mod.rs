@@ -247,13 +247,15 @@ pub(crate) fn resolve(
     };
     // Detection and the contact law per slave node are independent: in parallel, into one slot
     // per node. Forces, state and sums follow serially in node order, so the result does not
-    // depend on the number of threads.
+    // depend on the number of threads. Chunks of at least 1024 nodes: on the paper's centre crack
+    // (about 1000 nodes in Γ_det) splitting cost more than it saved (126 against 116 µs per step
+    // on 2 threads), so short interfaces run in one piece and long ones in parallel.
     let frictionless_law = |i: usize| frictionless.get(i).copied().unwrap_or(false);
     let (grid, frames, area_sum, normal) = (&ws.grid, &ws.frames, &ws.area_sum, &ws.normal);
     let history = &state.history;
     nodes
         .par_iter()
-        .with_min_len(64)
+        .with_min_len(1024)
         .map(|&node| {
             let i = node as usize;
             let slave = Slave {

@@ -50,7 +50,10 @@ pub fn build_with_row_map(
         .iter()
         .map(|p| nearest_node(&grid, Vector2::new(p[0], p[1])))
         .collect();
+    let neumann_nodes: Vec<u32> = bd.neumann.iter().map(|p| p.node).collect();
+    let deferred = crate::solver::sweep::deferred_layers(&grid, &fixed_dof, &neumann_nodes);
     let model = Model {
+        deferred,
         stiffness,
         d,
         mass,
@@ -165,6 +168,7 @@ fn workspace(model: &Model) -> Workspace {
         strain_energy: 0.0,
         clock: Default::default(),
         predicted: false,
+        sweep: crate::solver::sweep::SweepBuffers::new(&model.grid),
     }
 }
 

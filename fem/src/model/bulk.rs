@@ -2,6 +2,7 @@
 //! driver of the internal forces (each node gathers from its ≤ 4 elements; no shared writes).
 
 use crate::mesh::structured::Grid;
+use crate::model::stencil::Stencil;
 use nalgebra::{Matrix2, Vector2};
 use rayon::prelude::*;
 
@@ -27,7 +28,7 @@ pub(crate) enum Stiffness {
 #[derive(Debug, Clone)]
 pub(crate) struct SharedKe {
     ke: Ke,
-    stencil: Stencil,
+    pub(crate) stencil: Stencil,
 }
 
 impl Stiffness {
@@ -167,25 +168,19 @@ pub(crate) fn internal_forces(grid: &Grid, k: &Stiffness, u: &[Vector2<f64>], f:
     let flat: &[f64] = bytemuck::cast_slice(u);
     f.par_chunks_mut(w).enumerate().for_each(|(layer, fl)| {
         let (below, above) = grid.layer_element_rows(layer);
-        let generic = |i: usize| node_force(grid, k, below, above, i, u);
         match stencil {
             Some(st) if nx >= 2 => {
-                fl[0] = generic(0);
-                fl[nx] = generic(nx);
                 let row = |l: usize| &flat[2 * l * w..2 * (l + 1) * w];
-                let out: &mut [f64] = bytemuck::cast_slice_mut(fl);
-                match (below, above) {
-                    (Some(_), Some(_)) => {
-                        st.apply([row(layer - 1), row(layer), row(layer + 1)], &st.both, out)
-                    }
-                    (Some(_), None) => st.apply([row(layer - 1), row(layer)], &st.below, out),
-                    (None, Some(_)) => st.apply([row(layer), row(layer + 1)], &st.above, out),
-                    (None, None) => out[2..2 * nx].fill(0.0),
-                }
+                st.layer(
+                    below.map(|_| row(layer - 1)),
+                    row(layer),
+                    above.map(|_| row(layer + 1)),
+                    bytemuck::cast_slice_mut(fl),
+                );
             }
             _ => {
                 for (i, fi) in fl.iter_mut().enumerate() {
-                    *fi = generic(i);
+                    *fi = node_force(grid, k, below, above, i, u);
                 }
             }
         }
@@ -215,152 +210,6 @@ fn node_force(
         }
     }
     -acc
-}
-
-/// A 2×2 block of K multiplying the displacement of one neighbour, as the two lane patterns of
-/// a pair of nodes: f_x, f_y, f_x, f_y += `xs` · (u_x, u_x, u_x', u_x') + `ys` · (u_y, u_y, u_y', u_y').
-type Block = [[f64; 4]; 2];
-
-/// Interior-node stencil of a shared K_e: f_a = −Σ_rows Σ_{dc = −1, 0, 1} B[row][dc] u(row, i + dc),
-/// one 2×2 block per neighbour node, for a node with element rows on both sides (3 node rows,
-/// the middle row's blocks summed over the two element rows), below only, or above only.
-#[derive(Debug, Clone)]
-struct Stencil {
-    both: [[Block; 3]; 3],
-    below: [[Block; 3]; 2],
-    above: [[Block; 3]; 2],
-    /// The CPU has AVX2 / AVX-512F (checked once at build): the same lane code compiled for
-    /// 4- and 8-wide vectors.
-    avx2: bool,
-    avx512: bool,
-}
-
-impl Stencil {
-    fn new(k: &Ke) -> Stencil {
-        let block = |a: usize, b: usize| {
-            [
-                k[2 * a][2 * b],
-                k[2 * a][2 * b + 1],
-                k[2 * a + 1][2 * b],
-                k[2 * a + 1][2 * b + 1],
-            ]
-        };
-        // per element row: blocks[node row offset][column offset + 1], row-major 2×2
-        let mut below = [[[0.0; 4]; 3]; 2];
-        let mut above = [[[0.0; 4]; 3]; 2];
-        // element nodes b = 0..3 at (node row offset, column offset + 1) relative to the node, per (element, local a)
-        let below_elems = [
-            (2usize, [(0usize, 0usize), (0, 1), (1, 1), (1, 0)]),
-            (3, [(0, 1), (0, 2), (1, 2), (1, 1)]),
-        ];
-        let above_elems = [
-            (1usize, [(0usize, 0usize), (0, 1), (1, 1), (1, 0)]),
-            (0, [(0, 1), (0, 2), (1, 2), (1, 1)]),
-        ];
-        for (target, elems) in [(&mut below, below_elems), (&mut above, above_elems)] {
-            for (a, nodes) in elems {
-                for (b, (lo, col)) in nodes.iter().enumerate() {
-                    for (t, v) in target[*lo][*col].iter_mut().zip(block(a, b)) {
-                        *t += v;
-                    }
-                }
-            }
-        }
-        let mut both = [below[0], [[0.0; 4]; 3], above[1]];
-        for dc in 0..3 {
-            for q in 0..4 {
-                both[1][dc][q] = below[1][dc][q] + above[0][dc][q];
-            }
-        }
-        let lanes = |m: [f64; 4]| -> Block { [[m[0], m[2], m[0], m[2]], [m[1], m[3], m[1], m[3]]] };
-        #[cfg(target_arch = "x86_64")]
-        let (avx2, avx512) = (
-            std::arch::is_x86_feature_detected!("avx2"),
-            std::arch::is_x86_feature_detected!("avx512f"),
-        );
-        #[cfg(not(target_arch = "x86_64"))]
-        let (avx2, avx512) = (false, false);
-        Stencil {
-            both: both.map(|r| r.map(lanes)),
-            below: below.map(|r| r.map(lanes)),
-            above: above.map(|r| r.map(lanes)),
-            avx2,
-            avx512,
-        }
-    }
-
-    /// Forces of the interior nodes 1..nx−1 of one layer into `out` (the layer's x, y pairs).
-    #[inline]
-    fn apply<const R: usize>(&self, rows: [&[f64]; R], blocks: &[[Block; 3]; R], out: &mut [f64]) {
-        #[cfg(target_arch = "x86_64")]
-        if self.avx512 {
-            // SAFETY: `avx512` is true only if the CPU reported AVX-512F at run time (`Stencil::new`).
-            return unsafe { stencil_layer_avx512(rows, blocks, out) };
-        }
-        #[cfg(target_arch = "x86_64")]
-        if self.avx2 {
-            // SAFETY: `avx2` is true only if the CPU reported AVX2 at run time (`Stencil::new`).
-            return unsafe { stencil_layer_avx2(rows, blocks, out) };
-        }
-        stencil_layer::<R, 4>(rows, blocks, out)
-    }
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn stencil_layer_avx2<const R: usize>(rows: [&[f64]; R], blocks: &[[Block; 3]; R], out: &mut [f64]) {
-    stencil_layer::<R, 4>(rows, blocks, out)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-fn stencil_layer_avx512<const R: usize>(rows: [&[f64]; R], blocks: &[[Block; 3]; R], out: &mut [f64]) {
-    stencil_layer::<R, 8>(rows, blocks, out)
-}
-
-/// L/2 nodes per iteration in L lanes (f_x, f_y of node i, then of node i + 1, …); the nodes left
-/// over take one at a time the first two lanes of the same arithmetic, so every node's force is
-/// the same sequence of IEEE operations whatever the vector width or the grouping.
-#[inline(always)]
-fn stencil_layer<const R: usize, const L: usize>(
-    rows: [&[f64]; R],
-    blocks: &[[Block; 3]; R],
-    out: &mut [f64],
-) {
-    let nx = out.len() / 2 - 1;
-    let p = L / 2;
-    let mut i = 1;
-    while i + p <= nx {
-        let mut acc = [0.0f64; L];
-        for (row, blk) in rows.iter().zip(blocks) {
-            let u = &row[2 * (i - 1)..2 * (i - 1) + L + 4];
-            for (dc, [xs, ys]) in blk.iter().enumerate() {
-                let w = &u[2 * dc..2 * dc + L];
-                for l in 0..L {
-                    let pair = l & !1;
-                    acc[l] += xs[l % 4] * w[pair] + ys[l % 4] * w[pair + 1];
-                }
-            }
-        }
-        for (o, a) in out[2 * i..2 * i + L].iter_mut().zip(acc) {
-            *o = -a;
-        }
-        i += p;
-    }
-    while i < nx {
-        let mut acc = [0.0f64; 2];
-        for (row, blk) in rows.iter().zip(blocks) {
-            for (dc, [xs, ys]) in blk.iter().enumerate() {
-                let j = 2 * (i + dc - 1);
-                for l in 0..2 {
-                    acc[l] += xs[l] * row[j] + ys[l] * row[j + 1];
-                }
-            }
-        }
-        out[2 * i] = -acc[0];
-        out[2 * i + 1] = -acc[1];
-        i += 1;
-    }
 }
 
 #[inline(always)]
@@ -462,30 +311,6 @@ mod tests {
                 );
             }
         }
-    }
-
-    /// Every vector width gives the same bits as the portable code (the run's output must not
-    /// depend on the CPU it runs on).
-    #[test]
-    fn stencil_widths_agree_bit_for_bit() {
-        let d = crate::law::elastic::PlaneStrain::new(70e6, 0.35, 1230.0).d_matrix();
-        let st = Stencil::new(&stiffness(&rect(), &d).unwrap());
-        let w = 23;
-        let rows: Vec<Vec<f64>> = (0..3)
-            .map(|r| (0..2 * w).map(|k| ((k + 7 * r) as f64 * 0.731).sin()).collect())
-            .collect();
-        let rows = [rows[0].as_slice(), rows[1].as_slice(), rows[2].as_slice()];
-        let mut reference = vec![0.0; 2 * w];
-        stencil_layer::<3, 2>(rows, &st.both, &mut reference);
-        let mut four = vec![0.0; 2 * w];
-        stencil_layer::<3, 4>(rows, &st.both, &mut four);
-        let mut eight = vec![0.0; 2 * w];
-        stencil_layer::<3, 8>(rows, &st.both, &mut eight);
-        let mut dispatched = vec![0.0; 2 * w];
-        st.apply(rows, &st.both, &mut dispatched);
-        assert_eq!(reference, four);
-        assert_eq!(reference, eight);
-        assert_eq!(reference, dispatched);
     }
 
     #[test]

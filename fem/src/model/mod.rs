@@ -8,3 +8,4 @@ pub(crate) mod loading;
 pub(crate) mod mapped;
 pub(crate) mod reduce;
 pub mod state;
+pub(crate) mod stencil;

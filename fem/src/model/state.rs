@@ -62,6 +62,8 @@ pub struct Model {
     pub(crate) ramps: Vec<Ramp>,
     pub(crate) prescribed: Vec<BoundaryDof>,
     pub(crate) neumann: Vec<BoundaryDof>,
+    /// Per layer: kept out of the one-pass sweep of unsampled steps (`solver::sweep`).
+    pub(crate) deferred: Vec<bool>,
     /// Per node and component (x, y): the DOF is prescribed.
     pub(crate) fixed_dof: Vec<[bool; 2]>,
     /// Probe node ids.
@@ -166,6 +168,8 @@ pub struct Workspace {
     /// (u_{n+1} + Δt v_{n+1} + ½Δt² a_{n+1}, v_{n+1} + ½Δt a_{n+1}): the corrector of an unsampled
     /// step fuses the next step's predictor into the same sweep over memory.
     pub(crate) predicted: bool,
+    /// Scratch of the one-pass sweep of unsampled steps.
+    pub(crate) sweep: crate::solver::sweep::SweepBuffers,
 }
 
 impl Model {

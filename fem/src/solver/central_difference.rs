@@ -6,6 +6,7 @@ use crate::mesh::structured::LayerSide;
 use crate::model::state::{Model, State, Workspace};
 use crate::model::{bulk, cohesive, insertion};
 use crate::scene::DampingSet;
+use crate::solver::contact_step;
 use crate::solver::profile::Phase;
 use nalgebra::Vector2;
 use rayon::prelude::*;
@@ -33,7 +34,38 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
     }
     prescribe(model, state, ws, dt);
     ws.clock.lap(Phase::Predictor);
-    bulk::internal_forces(&model.grid, &model.stiffness, &state.u, &mut ws.f);
+    // An unsampled step sweeps memory once for the bulk forces and most of the corrector, and
+    // the contact detection runs beside it (it reads x_{n+1} of Γ_det and writes only its own
+    // forces and state). With `contact_friction = "failed_only"` detection needs this step's
+    // damage, i.e. the cohesive law first: no overlap then.
+    let overlap = !sample && !model.friction_failed_only;
+    let (swept, contact) = if overlap {
+        contact_step::prepare(model, state, ws);
+        let (u, v, f, sweep) = (&mut state.u, &mut state.v, &mut ws.f, &mut ws.sweep);
+        let (cp, tied, x, frictionless, f_con) = (
+            state.contact.as_mut(),
+            &state.tied_twin,
+            &ws.x,
+            &ws.frictionless,
+            &mut ws.f_con,
+        );
+        let ((swept, _), (contact, detect_s)) = rayon::join(
+            || (super::sweep::forces_and_advance(model, u, v, f, sweep, dt), ()),
+            || {
+                let clock = std::time::Instant::now();
+                let c = contact_step::detect(model, cp, tied, x, frictionless, f_con);
+                (c, clock.elapsed().as_secs_f64())
+            },
+        );
+        ws.clock.overlapped(Phase::Contact, detect_s);
+        (swept, Some(contact))
+    } else {
+        (None, None)
+    };
+    if swept.is_none() {
+        bulk::internal_forces(&model.grid, &model.stiffness, &state.u, &mut ws.f);
+        ws.sweep.done.fill(false);
+    }
     ws.clock.lap(Phase::Bulk);
     if sample {
         ws.strain_energy = bulk::strain_energy(&state.u, &ws.f);
@@ -41,7 +73,21 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
     }
     state.energy.cohesive_total += cohesive::assemble(model, &mut state.facets, &state.u, &mut ws.f, t1);
     ws.clock.lap(Phase::Cohesive);
-    super::contact_step::contact(model, state, ws);
+    let contact = match contact {
+        Some(c) => c,
+        None => {
+            contact_step::prepare(model, state, ws);
+            contact_step::detect(
+                model,
+                state.contact.as_mut(),
+                &state.tied_twin,
+                &ws.x,
+                &ws.frictionless,
+                &mut ws.f_con,
+            )
+        }
+    };
+    contact_step::apply(model, state, ws, contact);
     ws.clock.lap(Phase::Contact);
     external_forces(model, state, ws);
     reactions(model, state, ws);
@@ -59,7 +105,7 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
     );
     ws.clock.lap(Phase::Insertion);
     let fuse = !sample;
-    let vmax2 = corrector(model, state, ws, dt, fuse);
+    let vmax2 = corrector(model, state, ws, dt, fuse).max(swept.unwrap_or(0.0));
     ws.predicted = fuse;
     restore_prescribed(model, state);
     state.step += 1;
@@ -113,9 +159,20 @@ fn predictor_twinned_layers(model: &Model, state: &mut State, dt: f64) {
     }
 }
 
+/// The stability guard's running max of |v|² [m²/s²]: a non-finite |v|² counts as ∞. A new
+/// maximum is rare once a few nodes are seen, so this is a well-predicted branch, not a chain of
+/// dependent `max` instructions through every node of the step.
+#[inline(always)]
+pub(crate) fn track_vmax2(vmax2: &mut f64, v2: f64) {
+    // true when v2 > vmax2 or v2 is NaN
+    if v2.partial_cmp(vmax2) != Some(std::cmp::Ordering::Less) && v2 != *vmax2 {
+        *vmax2 = if v2.is_finite() { v2 } else { f64::INFINITY };
+    }
+}
+
 /// The predictor of one node: the same IEEE operations wherever it runs.
 #[inline(always)]
-fn predict(u: &mut Vector2<f64>, v: &mut Vector2<f64>, a: &Vector2<f64>, dt: f64) {
+pub(crate) fn predict(u: &mut Vector2<f64>, v: &mut Vector2<f64>, a: &Vector2<f64>, dt: f64) {
     *u += dt * *v + 0.5 * dt * dt * *a;
     *v += 0.5 * dt * *a;
 }
@@ -186,18 +243,17 @@ fn combine_tied(model: &Model, state: &State, ws: &mut Workspace) {
     }
 }
 
-/// a = f/m, v = v* + ½Δt a; returns max |v|² (∞ if any velocity is not finite).
+/// a = f/m, v = v* + ½Δt a; returns max |v|² (∞ if any velocity is not finite). On a layer the
+/// sweep has advanced (`ws.sweep.done`), only its two edge nodes are left.
 ///
 /// With `fuse` (a step whose state nobody observes), the nodes off the interface layers take the
-/// next step's predictor in the same sweep (u += Δt v + ½Δt² a, v += ½Δt a, exactly the
-/// operations of [`predictor`]), and their a is not stored: one pass over u, v, f, m instead of
-/// two passes over u, v, a, f, m. The step is memory-bound, so this is most of its saving. The
-/// interface layers keep the plain order: insertion, damping and the next step's contact work
-/// read their state between the two.
+/// next step's predictor in the same pass (u += Δt v + ½Δt² a, v += ½Δt a, exactly the
+/// operations of [`predictor`]), and their a is not stored. The interface layers keep the plain
+/// order: damping and the next step's contact work read their state between the two.
 fn corrector(model: &Model, state: &mut State, ws: &Workspace, dt: f64, fuse: bool) -> f64 {
     let w = model.grid.nx + 1;
     let sides = &model.grid.layer_side;
-    let finite = |v2: f64| if v2.is_finite() { v2 } else { f64::INFINITY };
+    let done = &ws.sweep.done;
     state
         .a
         .par_chunks_mut(w)
@@ -205,25 +261,55 @@ fn corrector(model: &Model, state: &mut State, ws: &Workspace, dt: f64, fuse: bo
         .zip(state.u.par_chunks_mut(w))
         .zip(ws.f.par_chunks(w).zip(model.mass.par_chunks(w)))
         .enumerate()
+        .with_min_len(super::sweep::BAND)
         .map(|(layer, (((a, v), u), (f, m)))| {
-            let mut vmax2 = 0.0f64;
-            if fuse && sides[layer] == LayerSide::Single {
-                for k in 0..v.len() {
-                    let acc = f[k] / m[k];
-                    v[k] += 0.5 * dt * acc;
-                    vmax2 = vmax2.max(finite(v[k].norm_squared()));
-                    predict(&mut u[k], &mut v[k], &acc, dt);
-                }
-            } else {
-                for k in 0..v.len() {
-                    a[k] = f[k] / m[k];
-                    v[k] += 0.5 * dt * a[k];
-                    vmax2 = vmax2.max(finite(v[k].norm_squared()));
-                }
+            let fused = fuse && sides[layer] == LayerSide::Single;
+            let nodes = Nodes { a, v, u, f, m, dt };
+            match (done[layer], fused) {
+                (true, true) => nodes.advance([0, w - 1].into_iter()),
+                (true, false) => nodes.correct([0, w - 1].into_iter()),
+                (false, true) => nodes.advance(0..w),
+                (false, false) => nodes.correct(0..w),
             }
-            vmax2
         })
         .reduce(|| 0.0, f64::max)
+}
+
+/// One layer's arrays for the corrector.
+struct Nodes<'a> {
+    a: &'a mut [Vector2<f64>],
+    v: &'a mut [Vector2<f64>],
+    u: &'a mut [Vector2<f64>],
+    f: &'a [Vector2<f64>],
+    m: &'a [f64],
+    dt: f64,
+}
+
+impl Nodes<'_> {
+    /// The corrector alone on `nodes`; returns their largest |v|².
+    #[inline(always)]
+    fn correct(self, nodes: impl Iterator<Item = usize>) -> f64 {
+        let mut vmax2 = 0.0f64;
+        for k in nodes {
+            self.a[k] = self.f[k] / self.m[k];
+            self.v[k] += 0.5 * self.dt * self.a[k];
+            track_vmax2(&mut vmax2, self.v[k].norm_squared());
+        }
+        vmax2
+    }
+
+    /// The corrector and the next step's predictor on `nodes`; returns their largest |v_{n+1}|².
+    #[inline(always)]
+    fn advance(self, nodes: impl Iterator<Item = usize>) -> f64 {
+        let mut vmax2 = 0.0f64;
+        for k in nodes {
+            let acc = self.f[k] / self.m[k];
+            self.v[k] += 0.5 * self.dt * acc;
+            track_vmax2(&mut vmax2, self.v[k].norm_squared());
+            predict(&mut self.u[k], &mut self.v[k], &acc, self.dt);
+        }
+        vmax2
+    }
 }
 
 fn restore_prescribed(model: &Model, state: &mut State) {

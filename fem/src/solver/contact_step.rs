@@ -1,16 +1,16 @@
 //! Step 6 of docs/fem-model.md §9: node-to-segment contact (hybrid model only), with the contact work
 //! W_con += Σ ⟨f_con⟩·(u_{n+1} − u_n) and the friction dissipation.
 
-use crate::contact;
-use crate::model::state::{Model, State, Workspace};
+use crate::contact::{self, ContactSummary};
+use crate::model::state::{ContactPart, Model, State, Workspace};
 use nalgebra::Vector2;
 
-/// Runs `contact::resolve` at x_{n+1} and adds the contact forces into `ws.f`.
-pub(crate) fn contact(model: &Model, state: &mut State, ws: &mut Workspace) {
-    let (Some(params), Some(row), Some(cp)) = (&model.contact, &model.iface, state.contact.as_mut()) else {
+/// The positions x_{n+1} of Γ_det's nodes (only those are read by `resolve`) and, with
+/// `contact_friction = "failed_only"`, which nodes have no friction this step.
+pub(crate) fn prepare(model: &Model, state: &State, ws: &mut Workspace) {
+    let (Some(_), Some(row), Some(_)) = (&model.contact, &model.iface, state.contact.as_ref()) else {
         return;
     };
-    // N_det lies on the interface row: only those positions are read by `resolve`.
     for &n in row.minus.iter().chain(row.plus.iter()) {
         let n = n as usize;
         ws.x[n] = model.grid.x0[n] + state.u[n];
@@ -18,16 +18,40 @@ pub(crate) fn contact(model: &Model, state: &mut State, ws: &mut Workspace) {
     if model.friction_failed_only {
         failed_faces_only(row, &state.facets, &mut ws.frictionless);
     }
-    let summary = contact::resolve(
+}
+
+/// Detection and the contact law at the positions `x` into `f_con`; touches nothing the bulk
+/// forces read or write, so it can run beside them.
+pub(crate) fn detect(
+    model: &Model,
+    cp: Option<&mut ContactPart>,
+    tied_twin: &[u32],
+    x: &[Vector2<f64>],
+    frictionless: &[bool],
+    f_con: &mut [Vector2<f64>],
+) -> Option<ContactSummary> {
+    let (Some(params), Some(cp)) = (&model.contact, cp) else {
+        return None;
+    };
+    model.iface.as_ref()?;
+    Some(contact::resolve(
         params,
         &mut cp.surface,
-        &ws.x,
-        &state.tied_twin,
-        &ws.frictionless,
+        x,
+        tied_twin,
+        frictionless,
         &mut cp.state,
         &mut cp.ws,
-        &mut ws.f_con,
-    );
+        f_con,
+    ))
+}
+
+/// Adds the contact forces of [`detect`] into `ws.f`, with the contact work
+/// W_con += Σ ⟨f_con⟩·(u_{n+1} − u_n) and the friction dissipation.
+pub(crate) fn apply(model: &Model, state: &mut State, ws: &mut Workspace, summary: Option<ContactSummary>) {
+    let (Some(summary), Some(row), Some(cp)) = (summary, &model.iface, state.contact.as_mut()) else {
+        return;
+    };
     state.energy.friction += summary.friction_dissipation;
     cp.max_penetration = summary.max_penetration;
     cp.dropped_step = summary.dropped;

@@ -5,3 +5,4 @@ pub(crate) mod contact_step;
 pub mod estimate;
 pub mod profile;
 pub mod run;
+pub(crate) mod sweep;

@@ -69,6 +69,8 @@ impl Phase {
 #[derive(Debug, Clone)]
 pub struct Clock {
     seconds: [f64; Phase::ALL.len()],
+    /// Time of work done beside another phase (on other threads), per phase [s].
+    beside: [f64; Phase::ALL.len()],
     last: Instant,
 }
 
@@ -76,6 +78,7 @@ impl Default for Clock {
     fn default() -> Self {
         Clock {
             seconds: [0.0; Phase::ALL.len()],
+            beside: [0.0; Phase::ALL.len()],
             last: Instant::now(),
         }
     }
@@ -96,15 +99,29 @@ impl Clock {
         self.last = now;
     }
 
-    /// Seconds per phase so far.
+    /// Books `seconds` of work of `phase` that ran beside the current lap (inside it, on other
+    /// threads): printed apart, not added to the total.
+    #[inline]
+    pub(crate) fn overlapped(&mut self, phase: Phase, seconds: f64) {
+        self.beside[phase as usize] += seconds;
+    }
+
+    /// Seconds per phase so far, then the work done beside other phases.
     pub fn phases(&self) -> Vec<PhaseTime> {
-        Phase::ALL
+        let laps = Phase::ALL.iter().map(|&p| PhaseTime {
+            phase: p.name(),
+            seconds: self.seconds[p as usize],
+            beside: false,
+        });
+        let beside = Phase::ALL
             .iter()
+            .filter(|&&p| self.beside[p as usize] > 0.0)
             .map(|&p| PhaseTime {
                 phase: p.name(),
-                seconds: self.seconds[p as usize],
-            })
-            .collect()
+                seconds: self.beside[p as usize],
+                beside: true,
+            });
+        laps.chain(beside).collect()
     }
 }
 
@@ -115,29 +132,36 @@ pub struct PhaseTime {
     pub phase: &'static str,
     /// Wall time [s].
     pub seconds: f64,
+    /// Work that ran beside the laps (e.g. contact detection on another thread while the bulk
+    /// sweep ran): inside another phase's time, not part of the total.
+    pub beside: bool,
 }
 
 /// The profile as an aligned text table: phase, seconds, share of the total, µs per step and ns
 /// per element-step.
 pub fn table(phases: &[PhaseTime], steps: u64, elements: usize) -> String {
-    let total: f64 = phases.iter().map(|p| p.seconds).sum();
+    let total: f64 = phases.iter().filter(|p| !p.beside).map(|p| p.seconds).sum();
     let per = |s: f64, n: f64| if n > 0.0 { s / n } else { f64::NAN };
+    let line = |name: &str, s: f64| {
+        format!(
+            "{:<18} {:>9.3} {:>6.1}% {:>10.1} {:>14.2}\n",
+            name,
+            s,
+            100.0 * per(s, total),
+            1e6 * per(s, steps as f64),
+            1e9 * per(s, steps as f64 * elements as f64)
+        )
+    };
     let mut out = format!(
         "{:<18} {:>9} {:>7} {:>10} {:>14}\n",
         "phase", "s", "share", "us/step", "ns/elem-step"
     );
-    for p in phases.iter().chain(std::iter::once(&PhaseTime {
-        phase: "total",
-        seconds: total,
-    })) {
-        out += &format!(
-            "{:<18} {:>9.3} {:>6.1}% {:>10.1} {:>14.2}\n",
-            p.phase,
-            p.seconds,
-            100.0 * per(p.seconds, total),
-            1e6 * per(p.seconds, steps as f64),
-            1e9 * per(p.seconds, steps as f64 * elements as f64)
-        );
+    for p in phases.iter().filter(|p| !p.beside) {
+        out += &line(p.phase, p.seconds);
+    }
+    out += &line("total", total);
+    for p in phases.iter().filter(|p| p.beside) {
+        out += &line(&format!("{}, beside", p.phase), p.seconds);
     }
     out
 }
@@ -153,12 +177,27 @@ mod tests {
         std::thread::sleep(std::time::Duration::from_millis(5));
         c.lap(Phase::Bulk);
         c.lap(Phase::Contact);
+        c.overlapped(Phase::Contact, 0.5);
         let p = c.phases();
         let bulk = p.iter().find(|x| x.phase == "bulk forces").unwrap().seconds;
         let contact = p.iter().find(|x| x.phase == "contact").unwrap().seconds;
         assert!(bulk >= 0.005 && contact < bulk, "{bulk} {contact}");
         let t = table(&p, 10, 100);
-        assert!(t.lines().last().unwrap().starts_with("total"), "{t}");
-        assert_eq!(t.lines().count(), Phase::ALL.len() + 2);
+        assert!(
+            t.lines().nth(Phase::ALL.len() + 1).unwrap().starts_with("total"),
+            "{t}"
+        );
+        assert!(t.lines().last().unwrap().starts_with("contact, beside"), "{t}");
+        assert_eq!(t.lines().count(), Phase::ALL.len() + 3);
+        let total: f64 = t
+            .lines()
+            .nth(Phase::ALL.len() + 1)
+            .unwrap()
+            .split_whitespace()
+            .nth(1)
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert!(total < 0.5, "time beside the laps is not in the total: {t}");
     }
 }

@@ -1,0 +1,226 @@
+//! One sweep over memory for the bulk of an unsampled step: each layer's internal forces, and on
+//! the layers nothing else needs at t_{n+1}, the corrector and the next step's predictor right
+//! behind them (docs/fem-model.md §9 steps 4, 8 and the next step's 1). The step is memory-bound;
+//! the separate passes move every node's u, f (written, then read back), v and m through memory
+//! twice, this sweep once, and f of those layers never leaves the cache.
+//!
+//! Layers are taken in bands of [`BAND`], each band by one task, in order: when layer j's forces
+//! are known, layer j − 1 can move on (its forces and those of both neighbours are computed from
+//! its u_{n+1}). Deferred to the corrector pass after contact and insertion, with their forces
+//! stored: the first and last layer of each band (a neighbouring band reads them), the edge nodes
+//! of every layer (prescribed in the paper's cases, whose reactions read their forces), and the
+//! layers of [`deferred_layers`]. Every node goes through exactly the operations of the separate
+//! passes, so the result is the same to the bit, whatever the bands or the threads.
+
+use crate::mesh::structured::{Grid, LayerSide};
+use crate::model::bulk::Stiffness;
+use crate::model::state::Model;
+use nalgebra::Vector2;
+use rayon::prelude::*;
+
+/// Layers per band: 16 bands on the paper's centre crack (252 layers), enough for any core count
+/// of a workstation to share out, and the halo copies stay small (2 rows per band).
+pub(crate) const BAND: usize = 16;
+
+/// Layers whose nodes must keep u_{n+1}, v_{n+1} until after contact and insertion: the two
+/// layers of the interface and their neighbours (the insertion check reads the stresses of the
+/// elements next to the interface), the bottom and top layers, and every layer holding a
+/// prescribed DOF off its edges or a Neumann force.
+pub(crate) fn deferred_layers(
+    model_grid: &Grid,
+    fixed_dof: &[[bool; 2]],
+    neumann_nodes: &[u32],
+) -> Vec<bool> {
+    let layers = model_grid.layer_side.len();
+    let w = model_grid.nx + 1;
+    let mut deferred = vec![false; layers];
+    deferred[0] = true;
+    deferred[layers - 1] = true;
+    for (layer, side) in model_grid.layer_side.iter().enumerate() {
+        match side {
+            LayerSide::Single => {}
+            LayerSide::Minus => {
+                deferred[layer] = true;
+                deferred[layer.saturating_sub(1)] = true;
+            }
+            LayerSide::Plus => {
+                deferred[layer] = true;
+                deferred[(layer + 1).min(layers - 1)] = true;
+            }
+        }
+    }
+    for (n, fixed) in fixed_dof.iter().enumerate() {
+        let i = n % w;
+        if (fixed[0] || fixed[1]) && i != 0 && i != w - 1 {
+            deferred[n / w] = true;
+        }
+    }
+    for &n in neumann_nodes {
+        deferred[n as usize / w] = true;
+    }
+    deferred
+}
+
+/// The scratch of the sweep, allocated at build: per band, copies of the two layers it reads
+/// from its neighbours and two rows of forces; per layer, whether the sweep advanced it.
+#[derive(Debug, Clone)]
+pub(crate) struct SweepBuffers {
+    halo: Vec<f64>,
+    ring: Vec<f64>,
+    /// Per layer: its interior nodes were advanced by the sweep of this step.
+    pub(crate) done: Vec<bool>,
+}
+
+impl SweepBuffers {
+    /// Buffers for `grid`.
+    pub(crate) fn new(grid: &Grid) -> SweepBuffers {
+        let layers = grid.layer_side.len();
+        let bands = layers.div_ceil(BAND);
+        let row = 2 * (grid.nx + 1);
+        SweepBuffers {
+            halo: vec![0.0; bands * 2 * row],
+            ring: vec![0.0; bands * 2 * row],
+            done: vec![false; layers],
+        }
+    }
+}
+
+/// Forces of every layer into `f` (all of a deferred layer, the edge nodes of the others) and
+/// the advance of the interior nodes of the other layers; returns the largest |v_{n+1}|² among
+/// them (∞ if one is not finite). `None` when the mesh has no shared stencil: the caller then
+/// runs the separate passes.
+pub(crate) fn forces_and_advance(
+    model: &Model,
+    u: &mut [Vector2<f64>],
+    v: &mut [Vector2<f64>],
+    f: &mut [Vector2<f64>],
+    buffers: &mut SweepBuffers,
+    dt: f64,
+) -> Option<f64> {
+    let Stiffness::Shared(shared) = &model.stiffness else {
+        return None;
+    };
+    let grid = &model.grid;
+    let nx = grid.nx;
+    if nx < 2 {
+        return None;
+    }
+    let w = nx + 1;
+    let row = 2 * w;
+    let layers = grid.layer_side.len();
+    {
+        let u: &[f64] = bytemuck::cast_slice(u);
+        for (b, halo) in buffers.halo.chunks_mut(2 * row).enumerate() {
+            let (a, e) = (b * BAND, ((b + 1) * BAND).min(layers));
+            if a > 0 {
+                halo[..row].copy_from_slice(&u[(a - 1) * row..a * row]);
+            }
+            if e < layers {
+                halo[row..].copy_from_slice(&u[e * row..(e + 1) * row]);
+            }
+        }
+    }
+    let stencil = &shared.stencil;
+    let ctx = Band {
+        grid,
+        stencil,
+        deferred: &model.deferred,
+        mass: &model.mass,
+        dt,
+        w,
+        layers,
+    };
+    let vmax2 = u
+        .par_chunks_mut(BAND * w)
+        .zip(v.par_chunks_mut(BAND * w))
+        .zip(f.par_chunks_mut(BAND * w))
+        .zip(buffers.done.par_chunks_mut(BAND))
+        .zip(
+            buffers
+                .halo
+                .par_chunks(2 * row)
+                .zip(buffers.ring.par_chunks_mut(2 * row)),
+        )
+        .enumerate()
+        .map(|(b, ((((u, v), f), done), (halo, ring)))| ctx.run(b * BAND, u, v, f, done, halo, ring))
+        .reduce(|| 0.0, f64::max);
+    Some(vmax2)
+}
+
+/// What every band task reads.
+struct Band<'a> {
+    grid: &'a Grid,
+    stencil: &'a crate::model::stencil::Stencil,
+    deferred: &'a [bool],
+    mass: &'a [f64],
+    dt: f64,
+    w: usize,
+    layers: usize,
+}
+
+impl Band<'_> {
+    /// Layers a.. of one band: u, v, f of its nodes, its `done` flags, the halo rows (below a,
+    /// above its last layer) and two rows of scratch forces.
+    #[allow(clippy::too_many_arguments)]
+    fn run(
+        &self,
+        a: usize,
+        u: &mut [Vector2<f64>],
+        v: &mut [Vector2<f64>],
+        f: &mut [Vector2<f64>],
+        done: &mut [bool],
+        halo: &[f64],
+        ring: &mut [f64],
+    ) -> f64 {
+        let (w, row) = (self.w, 2 * self.w);
+        let e = a + done.len();
+        let nx = w - 1;
+        let mut vmax2 = 0.0f64;
+        let stored = |j: usize| self.deferred[j] || j == a || j + 1 == e;
+        for j in a..e {
+            done[j - a] = false;
+            let (below, above) = self.grid.layer_element_rows(j);
+            {
+                let flat: &[f64] = bytemuck::cast_slice(u);
+                let layer = |l: usize| -> &[f64] {
+                    if l < a {
+                        &halo[..row]
+                    } else if l >= e {
+                        &halo[row..]
+                    } else {
+                        &flat[(l - a) * row..(l - a + 1) * row]
+                    }
+                };
+                let lo = below.map(|_| layer(j - 1));
+                let hi = above.map(|_| layer(j + 1));
+                debug_assert!(j + 1 < self.layers || hi.is_none());
+                if stored(j) {
+                    let out: &mut [f64] = bytemuck::cast_slice_mut(&mut f[(j - a) * w..(j - a + 1) * w]);
+                    self.stencil.layer(lo, layer(j), hi, out);
+                } else {
+                    let out = &mut ring[(j % 2) * row..(j % 2 + 1) * row];
+                    self.stencil.layer(lo, layer(j), hi, out);
+                    // the edge nodes are advanced after contact, from the stored forces
+                    f[(j - a) * w] = Vector2::new(out[0], out[1]);
+                    f[(j - a) * w + nx] = Vector2::new(out[2 * nx], out[2 * nx + 1]);
+                }
+            }
+            // layer j − 1 now has its forces and both neighbours': it moves on.
+            if j >= a + 2 && !stored(j - 1) {
+                let fr = &ring[((j - 1) % 2) * row..((j - 1) % 2 + 1) * row];
+                let base = (j - 1 - a) * w;
+                let global = (j - 1) * w;
+                for i in 1..nx {
+                    let force = Vector2::new(fr[2 * i], fr[2 * i + 1]);
+                    let acc = force / self.mass[global + i];
+                    let (ui, vi) = (&mut u[base + i], &mut v[base + i]);
+                    *vi += 0.5 * self.dt * acc;
+                    super::central_difference::track_vmax2(&mut vmax2, vi.norm_squared());
+                    super::central_difference::predict(ui, vi, &acc, self.dt);
+                }
+                done[j - 1 - a] = true;
+            }
+        }
+        vmax2
+    }
+}
