@@ -19,8 +19,9 @@ use std::mem::size_of;
 const BYTES_PER_ELEMENT: usize = 256;
 
 /// Wall time per element and step on 2 cores, contact and cohesive work included [s]. Measured on
-/// the centre crack (`compare sweep`): 1.3e-8 at h = 2 mm, 1.06e-8 at 1 mm, 0.90e-8 at 0.5 mm.
-const SECONDS_PER_ELEMENT_STEP: f64 = 1.2e-8;
+/// the centre crack (`compare sweep`, docs/performance.md): 5.1e-9 at h = 2 mm (1.6 s), 3.8e-9 at
+/// 1 mm (7.7 s), 3.7e-9 at 0.5 mm (46.8 s); rounded up.
+const SECONDS_PER_ELEMENT_STEP: f64 = 5e-9;
 
 /// Peak memory while one ParaView snapshot is built and written, per bulk element [B]: the
 /// snapshot's arrays, vtkio's copies of them and their base64 text (docs/outputs.md, "Budgets").
