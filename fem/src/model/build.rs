@@ -51,7 +51,7 @@ pub fn build_with_row_map(
         .map(|p| nearest_node(&grid, Vector2::new(p[0], p[1])))
         .collect();
     let neumann_nodes: Vec<u32> = bd.neumann.iter().map(|p| p.node).collect();
-    let deferred = crate::solver::sweep::deferred_layers(&grid, &fixed_dof, &neumann_nodes);
+    let deferred = crate::model::layers::deferred_layers(&grid, &fixed_dof, &neumann_nodes);
     let model = Model {
         deferred,
         stiffness,
@@ -168,7 +168,7 @@ fn workspace(model: &Model) -> Workspace {
         strain_energy: 0.0,
         clock: Default::default(),
         predicted: false,
-        sweep: crate::solver::sweep::SweepBuffers::new(&model.grid),
+        sweep: crate::model::layers::SweepBuffers::new(&model.grid),
     }
 }
 

@@ -6,8 +6,7 @@ use crate::model::stencil::Stencil;
 use nalgebra::{Matrix2, Vector2};
 use rayon::prelude::*;
 
-/// Element stiffness K_e [N/m per m] (8×8, DOF order x₀, y₀, x₁, y₁, …).
-pub(crate) type Ke = [[f64; 8]; 8];
+pub(crate) use crate::model::stencil::Ke;
 
 /// Gauss point signs (s_k, t_k), natural coordinates (s_k, t_k)/√3, weights 1.
 pub(crate) const GAUSS_SIGNS: [(f64, f64); 4] = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];

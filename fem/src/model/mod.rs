@@ -4,6 +4,7 @@ pub mod build;
 pub(crate) mod bulk;
 pub mod cohesive;
 pub(crate) mod insertion;
+pub(crate) mod layers;
 pub(crate) mod loading;
 pub(crate) mod mapped;
 pub(crate) mod reduce;

@@ -169,7 +169,7 @@ pub struct Workspace {
     /// step fuses the next step's predictor into the same sweep over memory.
     pub(crate) predicted: bool,
     /// Scratch of the one-pass sweep of unsampled steps.
-    pub(crate) sweep: crate::solver::sweep::SweepBuffers,
+    pub(crate) sweep: crate::model::layers::SweepBuffers,
 }
 
 impl Model {

@@ -7,6 +7,7 @@ use crate::model::state::{Model, State, Workspace};
 use crate::model::{bulk, cohesive, insertion};
 use crate::scene::DampingSet;
 use crate::solver::contact_step;
+use crate::solver::node::{predict, track_vmax2};
 use crate::solver::profile::Phase;
 use nalgebra::Vector2;
 use rayon::prelude::*;
@@ -159,24 +160,6 @@ fn predictor_twinned_layers(model: &Model, state: &mut State, dt: f64) {
     }
 }
 
-/// The stability guard's running max of |v|² [m²/s²]: a non-finite |v|² counts as ∞. A new
-/// maximum is rare once a few nodes are seen, so this is a well-predicted branch, not a chain of
-/// dependent `max` instructions through every node of the step.
-#[inline(always)]
-pub(crate) fn track_vmax2(vmax2: &mut f64, v2: f64) {
-    // true when v2 > vmax2 or v2 is NaN
-    if v2.partial_cmp(vmax2) != Some(std::cmp::Ordering::Less) && v2 != *vmax2 {
-        *vmax2 = if v2.is_finite() { v2 } else { f64::INFINITY };
-    }
-}
-
-/// The predictor of one node: the same IEEE operations wherever it runs.
-#[inline(always)]
-pub(crate) fn predict(u: &mut Vector2<f64>, v: &mut Vector2<f64>, a: &Vector2<f64>, dt: f64) {
-    *u += dt * *v + 0.5 * dt * dt * *a;
-    *v += 0.5 * dt * *a;
-}
-
 /// u = ū(t_{n+1}) and v = (ū(t_{n+1}) − ū(t_n))/Δt on prescribed DOFs (docs/fem-model.md §2, §9 step 3).
 fn prescribe(model: &Model, state: &mut State, ws: &Workspace, dt: f64) {
     for (k, p) in model.prescribed.iter().enumerate() {
@@ -261,7 +244,7 @@ fn corrector(model: &Model, state: &mut State, ws: &Workspace, dt: f64, fuse: bo
         .zip(state.u.par_chunks_mut(w))
         .zip(ws.f.par_chunks(w).zip(model.mass.par_chunks(w)))
         .enumerate()
-        .with_min_len(super::sweep::BAND)
+        .with_min_len(crate::model::layers::BAND)
         .map(|(layer, (((a, v), u), (f, m)))| {
             let fused = fuse && sides[layer] == LayerSide::Single;
             let nodes = Nodes { a, v, u, f, m, dt };

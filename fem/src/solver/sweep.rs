@@ -12,78 +12,13 @@
 //! layers of [`deferred_layers`]. Every node goes through exactly the operations of the separate
 //! passes, so the result is the same to the bit, whatever the bands or the threads.
 
-use crate::mesh::structured::{Grid, LayerSide};
+use crate::mesh::structured::Grid;
 use crate::model::bulk::Stiffness;
+use crate::model::layers::{BAND, SweepBuffers};
 use crate::model::state::Model;
+use crate::solver::node::{predict, track_vmax2};
 use nalgebra::Vector2;
 use rayon::prelude::*;
-
-/// Layers per band: 16 bands on the paper's centre crack (252 layers), enough for any core count
-/// of a workstation to share out, and the halo copies stay small (2 rows per band).
-pub(crate) const BAND: usize = 16;
-
-/// Layers whose nodes must keep u_{n+1}, v_{n+1} until after contact and insertion: the two
-/// layers of the interface and their neighbours (the insertion check reads the stresses of the
-/// elements next to the interface), the bottom and top layers, and every layer holding a
-/// prescribed DOF off its edges or a Neumann force.
-pub(crate) fn deferred_layers(
-    model_grid: &Grid,
-    fixed_dof: &[[bool; 2]],
-    neumann_nodes: &[u32],
-) -> Vec<bool> {
-    let layers = model_grid.layer_side.len();
-    let w = model_grid.nx + 1;
-    let mut deferred = vec![false; layers];
-    deferred[0] = true;
-    deferred[layers - 1] = true;
-    for (layer, side) in model_grid.layer_side.iter().enumerate() {
-        match side {
-            LayerSide::Single => {}
-            LayerSide::Minus => {
-                deferred[layer] = true;
-                deferred[layer.saturating_sub(1)] = true;
-            }
-            LayerSide::Plus => {
-                deferred[layer] = true;
-                deferred[(layer + 1).min(layers - 1)] = true;
-            }
-        }
-    }
-    for (n, fixed) in fixed_dof.iter().enumerate() {
-        let i = n % w;
-        if (fixed[0] || fixed[1]) && i != 0 && i != w - 1 {
-            deferred[n / w] = true;
-        }
-    }
-    for &n in neumann_nodes {
-        deferred[n as usize / w] = true;
-    }
-    deferred
-}
-
-/// The scratch of the sweep, allocated at build: per band, copies of the two layers it reads
-/// from its neighbours and two rows of forces; per layer, whether the sweep advanced it.
-#[derive(Debug, Clone)]
-pub(crate) struct SweepBuffers {
-    halo: Vec<f64>,
-    ring: Vec<f64>,
-    /// Per layer: its interior nodes were advanced by the sweep of this step.
-    pub(crate) done: Vec<bool>,
-}
-
-impl SweepBuffers {
-    /// Buffers for `grid`.
-    pub(crate) fn new(grid: &Grid) -> SweepBuffers {
-        let layers = grid.layer_side.len();
-        let bands = layers.div_ceil(BAND);
-        let row = 2 * (grid.nx + 1);
-        SweepBuffers {
-            halo: vec![0.0; bands * 2 * row],
-            ring: vec![0.0; bands * 2 * row],
-            done: vec![false; layers],
-        }
-    }
-}
 
 /// Forces of every layer into `f` (all of a deferred layer, the edge nodes of the others) and
 /// the advance of the interior nodes of the other layers; returns the largest |v_{n+1}|² among
@@ -215,8 +150,8 @@ impl Band<'_> {
                     let acc = force / self.mass[global + i];
                     let (ui, vi) = (&mut u[base + i], &mut v[base + i]);
                     *vi += 0.5 * self.dt * acc;
-                    super::central_difference::track_vmax2(&mut vmax2, vi.norm_squared());
-                    super::central_difference::predict(ui, vi, &acc, self.dt);
+                    track_vmax2(&mut vmax2, vi.norm_squared());
+                    predict(ui, vi, &acc, self.dt);
                 }
                 done[j - 1 - a] = true;
             }
