@@ -185,7 +185,7 @@ pub enum MeshError {
 }
 
 /// Kind of a bulk element.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum ElementKind {
     /// Linear triangle (Gmsh type 2).
     T3,
@@ -552,7 +552,10 @@ fn build(
     }
     let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
     let tolerance = Z_TOLERANCE * size;
-    if let Some((tag, x)) = raw_nodes.iter().find(|(_, x)| x[2].is_nan() || x[2].abs() > tolerance) {
+    if let Some((tag, x)) = raw_nodes
+        .iter()
+        .find(|(_, x)| x[2].is_nan() || x[2].abs() > tolerance)
+    {
         return Err(MeshError::Not2d {
             node: *tag,
             z: x[2],
