@@ -509,3 +509,89 @@ fn garbage_is_a_parse_error_not_a_panic() {
     let t = text("rect_tri.msh");
     assert!(matches!(parse(&t[..t.len() / 2]), Err(MeshError::Parse(_))));
 }
+
+/// A 3 × 3 grid of unit Q4 on [0, 3]² (nodes 1..16, row by row, node t at ((t−1) mod 4,
+/// (t−1) div 4)), with the given lines in group "interface".
+fn grid3_msh(lines: &[(u64, u64, u64)]) -> String {
+    let mut s = String::from(
+        "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n2\n1 2 \"interface\"\n2 1 \"bulk\"\n\
+         $EndPhysicalNames\n$Entities\n0 1 1 0\n1 0 0 0 3 3 0 1 2 0\n1 0 0 0 3 3 0 1 1 0\n$EndEntities\n",
+    );
+    s += "$Nodes\n1 16 1 16\n2 1 0 16\n";
+    for t in 1..=16 {
+        s += &format!("{t}\n");
+    }
+    for t in 0..16 {
+        s += &format!("{} {} 0\n", t % 4, t / 4);
+    }
+    s += &format!("$EndNodes\n$Elements\n2 {} 1 100\n2 1 3 9\n", 9 + lines.len());
+    for r in 0..3 {
+        for c in 0..3 {
+            let a = 4 * r + c + 1;
+            s += &format!("{} {a} {} {} {}\n", 3 * r + c + 1, a + 1, a + 5, a + 4);
+        }
+    }
+    s += &format!("1 1 1 {}\n", lines.len());
+    for (t, a, b) in lines {
+        s += &format!("{t} {a} {b}\n");
+    }
+    s + "$EndElements\n"
+}
+
+#[test]
+fn a_closed_chain_twins_every_node_and_frees_what_it_encloses() {
+    // The square around the centre element (tag 5: nodes 6 7 11 10), counter-clockwise.
+    let mesh = parse(&grid3_msh(&[(20, 6, 7), (21, 7, 11), (22, 11, 10), (23, 10, 6)])).unwrap();
+    let chains = interface_chains(&mesh, "interface").unwrap();
+    assert_eq!(chains.len(), 1);
+    let c = &chains[0];
+    assert!(c.closed);
+    assert_eq!(
+        c.nodes.iter().map(|&n| mesh.node_tags[n]).collect::<Vec<_>>(),
+        vec![6, 7, 11, 10]
+    );
+    check_sides(&mesh, c);
+    // Counter-clockwise loop: the enclosed centre element is on the + (left) side.
+    assert!(c.segments.iter().all(|s| mesh.elements[s.plus.element].tag == 5));
+    let split = split_interface(&mesh, &chains).unwrap();
+    assert!(split.tips.is_empty());
+    assert_eq!(split.twins.len(), 4);
+    let centre = split.mesh.elements.iter().position(|e| e.tag == 5).unwrap();
+    assert_eq!(
+        connected_nodes(&split.mesh, centre).len(),
+        4,
+        "the centre element is cut free"
+    );
+}
+
+#[test]
+fn disjoint_pieces_are_separate_chains_with_their_own_tips() {
+    // Two edge cracks: 5-6 from the left side, 12-11 from the right side; each ends inside.
+    let mesh = parse(&grid3_msh(&[(30, 5, 6), (31, 12, 11)])).unwrap();
+    let chains = interface_chains(&mesh, "interface").unwrap();
+    let tags = |c: &Chain| c.nodes.iter().map(|&n| mesh.node_tags[n]).collect::<Vec<_>>();
+    assert_eq!(
+        chains.iter().map(tags).collect::<Vec<_>>(),
+        vec![vec![5, 6], vec![12, 11]]
+    );
+    let split = split_interface(&mesh, &chains).unwrap();
+    let tip_tags: Vec<u64> = split.tips.iter().map(|&n| mesh.node_tags[n]).collect();
+    let twin_tags: Vec<u64> = split.twins.iter().map(|t| mesh.node_tags[t.minus]).collect();
+    assert_eq!((twin_tags, tip_tags), (vec![5, 12], vec![6, 11]));
+    // Chains that meet are refused, naming the node.
+    let meet = parse(&grid3_msh(&[(30, 5, 6), (31, 6, 7)])).unwrap();
+    let one = interface_chains(&meet, "interface").unwrap();
+    let twice = [one[0].clone(), one[0].clone()];
+    assert_eq!(split_interface(&meet, &twice), Err(MeshError::ChainsMeet(5)));
+}
+
+#[test]
+fn msh_2_2_is_refused() {
+    // The same rectangle written by Gmsh in the older MSH 2.2 format.
+    let s = text("rect_tri.msh").replacen("4.1 0 8", "2.2 0 8", 1);
+    assert!(
+        matches!(parse(&s), Err(MeshError::Parse(_))),
+        "{:?}",
+        parse(&s).err()
+    );
+}
