@@ -21,6 +21,7 @@ mod test_scenes;
 
 pub use error::{BuildError, RunError, SceneError};
 pub use law::elastic::WaveSpeeds;
+pub use mesh::gmsh;
 pub use model::build::{build, build_with_row_map};
 pub use model::state::{Model, State, Workspace};
 /// Re-export of the vector type used at the API (`Vector2<f64>`), so callers need not depend on nalgebra.
