@@ -100,13 +100,16 @@ pub struct Plan {
 impl Plan {
     /// The plan with the runs shared out as `lanes` says: memory is then that of the largest
     /// runs going at once, and on 2 cores two runs on one core each take
-    /// [`ONE_CORE_SLOWDOWN`] times their 2-core time, side by side.
+    /// [`ONE_CORE_SLOWDOWN`] times their 2-core time, side by side, in rounds.
     pub fn with_lanes(self, lanes: crate::concurrent::Lanes) -> Plan {
         let n = lanes.lanes.min(self.runs.max(1));
+        // the runs go in rounds of n: ⌈runs/n⌉ rounds of one run's one-core time each
+        let rounds = self.runs.div_ceil(n.max(1)) as f64;
+        let mean = self.seconds / self.runs.max(1) as f64;
         Plan {
             largest_bytes: self.largest_bytes * n as u64,
             seconds: if n > 1 {
-                self.seconds * ONE_CORE_SLOWDOWN / n as f64
+                rounds * mean * ONE_CORE_SLOWDOWN
             } else {
                 self.seconds
             },
@@ -400,4 +403,29 @@ pub fn fem_tips(out: &fem::RunOutput) -> Vec<TipRow> {
 /// Tip rows of a spectral run.
 pub fn spectral_tips(out: &spectral::RunOutput) -> Vec<TipRow> {
     tip_rows!(out.tips)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::concurrent::Lanes;
+
+    /// Runs side by side: memory adds up over the runs at once, and the time goes in rounds of
+    /// one run's one-core time (3 runs on 2 lanes: 2 rounds).
+    #[test]
+    fn a_plan_side_by_side_prices_memory_and_rounds() {
+        let plan = Plan {
+            runs: 3,
+            steps: 300,
+            seconds: 30.0,
+            largest_bytes: 100,
+            longest_seconds: 10.0,
+            lanes: Lanes::new(3, 2, Some(1)),
+        };
+        let side = plan.with_lanes(Lanes::new(3, 2, None));
+        assert_eq!(side.largest_bytes, 200);
+        assert!((side.seconds - 2.0 * 10.0 * ONE_CORE_SLOWDOWN).abs() < 1e-12);
+        let one = plan.with_lanes(Lanes::new(3, 2, Some(1)));
+        assert_eq!((one.largest_bytes, one.seconds), (100, 30.0));
+    }
 }

@@ -23,6 +23,12 @@ const BYTES_PER_ELEMENT: usize = 256;
 /// 1 mm (7.7 s), 3.7e-9 at 0.5 mm (46.8 s); rounded up.
 const SECONDS_PER_ELEMENT_STEP: f64 = 5e-9;
 
+/// The same on a mesh mapped onto an interface polyline (`fem.interface_polyline` or a sine
+/// interface: every element its own shape, forces computed element by element, no one-pass
+/// sweep) [s]: 2.9e-8 measured on the sinusoidal interface (750 × 250, 14 632 steps, 80 s on 2
+/// threads for either model); rounded up.
+const MAPPED_SECONDS_PER_ELEMENT_STEP: f64 = 3e-8;
+
 /// Peak memory while one ParaView snapshot is built and written, per bulk element [B]: the
 /// snapshot's arrays, vtkio's copies of them and their base64 text (docs/outputs.md, "Budgets").
 /// Measured peak resident memory with `[fem.paraview]` minus without, centre crack: 1.54 kB at
@@ -71,6 +77,11 @@ fn elements(scene: &Scene) -> (f64, f64) {
 pub fn estimate(scene: &Scene) -> Estimate {
     let f = &scene.fem;
     let h = f.element_size;
+    let per_element_step = if f.interface_polyline.is_some() {
+        MAPPED_SECONDS_PER_ELEMENT_STEP
+    } else {
+        SECONDS_PER_ELEMENT_STEP
+    };
     let (nx, ny) = elements(scene);
     let dt = scene.time_step();
     let steps_f = (scene.duration() / dt).ceil();
@@ -105,7 +116,7 @@ pub fn estimate(scene: &Scene) -> Estimate {
             u64::MAX
         },
         steps_keys: "loading.duration, fem.element_size or fem.time_step_safety",
-        seconds: (steps_f * SECONDS_PER_ELEMENT_STEP + fields * FIELD_SECONDS_PER_ELEMENT) * nx * ny,
+        seconds: (steps_f * per_element_step + fields * FIELD_SECONDS_PER_ELEMENT) * nx * ny,
         parts: vec![
             Part {
                 what: format!("model ({nx} × {ny} elements)"),
