@@ -8,8 +8,8 @@
 //!   b_i = y_j − y_k, c_i = x_k − x_j for (i, j, k) cyclic (Zienkiewicz, Taylor & Zhu, *The Finite
 //!   Element Method: Its Basis and Fundamentals*, 7th ed., §6.2). Exact, 6×6. Lumped mass ρA/3 per
 //!   node (the row sum of the consistent mass).
-//! - **Q4**, the bilinear quadrangle with 2×2 Gauss points: [`bulk::stiffness`] and
-//!   [`bulk::lumped_mass`], the structured grid's element (docs/fem-model.md §1).
+//! - **Q4**, the bilinear quadrangle with 2×2 Gauss points: `model::bulk::stiffness` and
+//!   `model::bulk::lumped_mass`, the structured grid's element (docs/fem-model.md §1).
 //!
 //! Storage: each node a gathers f_a = −Σ_e K_e[a-rows] u_e over its elements e. The two rows of
 //! K_e that belong to node a (2 × 2n values for an n-node element) are copied, at build time,
@@ -183,7 +183,8 @@ impl UnstructuredBulk {
         self.mass.len()
     }
 
-    /// Lumped nodal masses [kg/m] (T3: ρA/3 per node; Q4: the row sums of [`bulk::lumped_mass`]).
+    /// Lumped nodal masses [kg/m] (T3: ρA/3 per node; Q4: the row sums of
+    /// `model::bulk::lumped_mass`).
     pub fn masses(&self) -> &[f64] {
         &self.mass
     }
