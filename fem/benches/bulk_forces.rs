@@ -1,9 +1,20 @@
 //! Bulk internal-force kernels, reported per element-step (Throughput::Elements):
 //! - the paper's centre-crack mesh (500 × 250 identical squares, shared K_e, rayon gather);
-//! - the sinusoidal-interface mesh (750 × 250 vertical-sided quads, forces computed on the fly).
+//! - the sinusoidal-interface mesh (750 × 250 vertical-sided quads, forces computed on the fly);
+//! - the unstructured kernel (`fem::model::unstructured`) on the centre-crack rectangle written
+//!   as an unstructured mesh: 500 × 250 Q4, and the same squares split into 250 000 T3.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use fem::gmsh::{BulkElement, ElementKind, UnstructuredMesh};
+use fem::model::unstructured::UnstructuredBulk;
 use fem::nalgebra::Vector2;
+
+/// A smooth, non-trivial displacement field of n nodes [m].
+fn displacements(n: usize) -> Vec<Vector2<f64>> {
+    (0..n)
+        .map(|i| Vector2::new((i as f64 * 0.37).sin(), (i as f64 * 0.11).cos()) * 1e-6)
+        .collect()
+}
 
 /// Benchmarks one f_int evaluation on the mesh of `scene` (a file in scenes/).
 fn bench_scene(c: &mut Criterion, name: &str, scene: &str) {
@@ -11,9 +22,7 @@ fn bench_scene(c: &mut Criterion, name: &str, scene: &str) {
     let scene = fem::Scene::from_toml_str(&std::fs::read_to_string(path).unwrap()).unwrap();
     let (model, _, _) = fem::build(&scene).unwrap();
     let n = model.num_nodes();
-    let u: Vec<Vector2<f64>> = (0..n)
-        .map(|i| Vector2::new((i as f64 * 0.37).sin(), (i as f64 * 0.11).cos()) * 1e-6)
-        .collect();
+    let u = displacements(n);
     let mut f = vec![Vector2::zeros(); n];
     let mut g = c.benchmark_group("bulk_forces");
     g.throughput(Throughput::Elements(model.num_elements() as u64));
@@ -21,9 +30,60 @@ fn bench_scene(c: &mut Criterion, name: &str, scene: &str) {
     g.finish();
 }
 
+/// The centre-crack rectangle (0.5 m × 0.25 m, 1 mm squares, nx × ny) as an unstructured mesh:
+/// Q4 squares, or each square split along its diagonal into two T3.
+fn grid_mesh(nx: usize, ny: usize, triangles: bool) -> UnstructuredMesh {
+    let h = 1e-3;
+    let positions: Vec<Vector2<f64>> = (0..=ny)
+        .flat_map(|j| (0..=nx).map(move |i| Vector2::new(i as f64 * h, j as f64 * h)))
+        .collect();
+    let node = |i: usize, j: usize| j * (nx + 1) + i;
+    let mut elements = Vec::new();
+    for j in 0..ny {
+        for i in 0..nx {
+            let q = [node(i, j), node(i + 1, j), node(i + 1, j + 1), node(i, j + 1)];
+            let mut push = |kind, nodes: Vec<usize>| {
+                let tag = elements.len() as u64 + 1;
+                elements.push(BulkElement { tag, kind, nodes });
+            };
+            if triangles {
+                push(ElementKind::T3, vec![q[0], q[1], q[2]]);
+                push(ElementKind::T3, vec![q[0], q[2], q[3]]);
+            } else {
+                push(ElementKind::Q4, q.to_vec());
+            }
+        }
+    }
+    UnstructuredMesh {
+        node_tags: (1..=positions.len() as u64).collect(),
+        positions,
+        elements,
+        lines: Vec::new(),
+        groups: Default::default(),
+        reoriented: 0,
+        warnings: Vec::new(),
+    }
+}
+
+/// Benchmarks one f_int evaluation of the unstructured kernel on a 500 × 250 grid mesh.
+fn bench_unstructured(c: &mut Criterion, name: &str, triangles: bool) {
+    let mesh = grid_mesh(500, 250, triangles);
+    let mat = fem::law::elastic::PlaneStrain::new(70e6, 0.35, 1230.0);
+    let bulk = UnstructuredBulk::new(&mesh, &mat.d_matrix(), mat.density).unwrap();
+    let n = bulk.num_nodes();
+    let u = displacements(n);
+    let mut f = vec![Vector2::zeros(); n];
+    let mut g = c.benchmark_group("bulk_forces");
+    g.throughput(Throughput::Elements(mesh.elements.len() as u64));
+    g.bench_function(name, |b| b.iter(|| bulk.internal_forces(&u, &mut f)));
+    g.finish();
+}
+
 fn bench(c: &mut Criterion) {
     bench_scene(c, "center_crack_500x250", "center-crack.toml");
     bench_scene(c, "sinusoid_mapped_750x250", "sinusoidal-interface.toml");
+    bench_unstructured(c, "unstructured_q4_500x250", false);
+    bench_unstructured(c, "unstructured_t3_500x250x2", true);
 }
 
 criterion_group!(benches, bench);

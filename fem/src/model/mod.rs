@@ -10,3 +10,4 @@ pub(crate) mod mapped;
 pub(crate) mod reduce;
 pub mod state;
 pub(crate) mod stencil;
+pub mod unstructured;
