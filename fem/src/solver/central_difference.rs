@@ -7,7 +7,7 @@ use crate::model::state::{Model, State, Workspace};
 use crate::model::{bulk, cohesive, insertion};
 use crate::scene::DampingSet;
 use crate::solver::contact_step;
-use crate::solver::node::{predict, track_vmax2};
+use crate::solver::node::{advance, predict, track_vmax2};
 use crate::solver::profile::Phase;
 use nalgebra::Vector2;
 use rayon::prelude::*;
@@ -286,10 +286,14 @@ impl Nodes<'_> {
     fn advance(self, nodes: impl Iterator<Item = usize>) -> f64 {
         let mut vmax2 = 0.0f64;
         for k in nodes {
-            let acc = self.f[k] / self.m[k];
-            self.v[k] += 0.5 * self.dt * acc;
-            track_vmax2(&mut vmax2, self.v[k].norm_squared());
-            predict(&mut self.u[k], &mut self.v[k], &acc, self.dt);
+            advance(
+                &mut self.u[k],
+                &mut self.v[k],
+                self.f[k],
+                self.m[k],
+                self.dt,
+                &mut vmax2,
+            );
         }
         vmax2
     }

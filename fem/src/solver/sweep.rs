@@ -16,7 +16,7 @@ use crate::mesh::structured::Grid;
 use crate::model::bulk::Stiffness;
 use crate::model::layers::{BAND, SweepBuffers};
 use crate::model::state::Model;
-use crate::solver::node::{predict, track_vmax2};
+use crate::solver::node::advance;
 use nalgebra::Vector2;
 use rayon::prelude::*;
 
@@ -147,11 +147,8 @@ impl Band<'_> {
                 let global = (j - 1) * w;
                 for i in 1..nx {
                     let force = Vector2::new(fr[2 * i], fr[2 * i + 1]);
-                    let acc = force / self.mass[global + i];
                     let (ui, vi) = (&mut u[base + i], &mut v[base + i]);
-                    *vi += 0.5 * self.dt * acc;
-                    track_vmax2(&mut vmax2, vi.norm_squared());
-                    predict(ui, vi, &acc, self.dt);
+                    advance(ui, vi, force, self.mass[global + i], self.dt, &mut vmax2);
                 }
                 done[j - 1 - a] = true;
             }
