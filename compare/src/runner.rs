@@ -369,6 +369,36 @@ pub fn run<M: Model>(job: Job<M>, rep: &dyn Reporter) -> Result<Finished<M::Outp
     })
 }
 
+/// Runs FE scenes side by side as `lanes` says, each `(scene, label, folder)` kept as `keep`
+/// says; their results in the order given (an error stops the runs not yet started).
+pub fn run_fems(
+    runs: &[(&fem::Scene, String, std::path::PathBuf)],
+    keep: Keep,
+    lanes: crate::concurrent::Lanes,
+    rep: &dyn Reporter,
+) -> Result<Vec<Finished<fem::RunOutput>>> {
+    let tasks: Vec<crate::concurrent::Task<Finished<fem::RunOutput>>> = runs
+        .iter()
+        .map(|(scene, label, dir)| {
+            Box::new(move || {
+                let job = Job {
+                    scene: *scene,
+                    label,
+                    dir,
+                    keep,
+                };
+                run_fem(job, rep)
+            }) as crate::concurrent::Task<Finished<fem::RunOutput>>
+        })
+        .collect();
+    crate::concurrent::run_all(tasks, lanes)?
+        .into_iter()
+        .map(|r| {
+            r.ok_or_else(|| anyhow::anyhow!("invariant: a run is skipped only after an earlier one failed"))?
+        })
+        .collect()
+}
+
 /// Runs an FE job ([`run`]).
 pub fn run_fem(job: Job<fem::Scene>, rep: &dyn Reporter) -> Result<Finished<fem::RunOutput>> {
     run(job, rep)

@@ -7,9 +7,9 @@ pub mod limit;
 pub mod rows;
 pub mod windows;
 
-use crate::concurrent::{self, Lanes, Task};
+use crate::concurrent::Lanes;
 use crate::output::write_rows;
-use crate::runner::{Finished, Job, Keep, Reporter, preflight, run_fem};
+use crate::runner::{Keep, Reporter, preflight, run_fems};
 use crate::study::Study;
 use anyhow::{Context, Result};
 use figures::{Expected, penalty_figures};
@@ -65,36 +65,19 @@ pub fn run_study(study: &Study, factors: &[u32], dir: &Path, rep: &dyn Reporter)
         .collect();
     let lanes = Lanes::new(plans.len(), rayon::current_num_threads(), study.concurrent_runs);
     rep.planned(&preflight(study, &fems, &[], dir)?.with_lanes(lanes));
-    let labels: Vec<(String, std::path::PathBuf)> = plans
+    let runs: Vec<_> = plans
         .iter()
-        .map(|(factor, _)| {
+        .map(|(factor, scene)| {
             (
+                scene,
                 format!("FE ε_n = {factor:>4} E/m"),
                 dir.join(format!("fem_eps{factor}")),
             )
         })
         .collect();
-    let tasks: Vec<Task<Finished<fem::RunOutput>>> = plans
-        .iter()
-        .zip(&labels)
-        .map(|((_, scene), (label, sub))| {
-            Box::new(move || {
-                let job = Job {
-                    scene,
-                    label,
-                    dir: sub,
-                    keep: Keep::OnFailure,
-                };
-                run_fem(job, rep)
-            }) as Task<Finished<fem::RunOutput>>
-        })
-        .collect();
     let (mut faces, mut means, mut summaries, mut warnings) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    for ((factor, scene), f) in plans.iter().zip(concurrent::run_all(tasks, lanes)?) {
-        let f = f.ok_or_else(|| {
-            anyhow::anyhow!("invariant: a run is skipped only after an earlier one failed")
-        })??;
+    for ((factor, scene), f) in plans.iter().zip(run_fems(&runs, Keep::OnFailure, lanes, rep)?) {
         warnings.extend(f.warnings.iter().cloned());
         let out = f.completed()?;
         faces.extend(face_rows(*factor, scene, &out));

@@ -9,9 +9,9 @@ pub mod metrics;
 pub mod setup;
 pub mod snapshot;
 
-use crate::concurrent::{self, Lanes, Task};
+use crate::concurrent::Lanes;
 use crate::output::write_rows;
-use crate::runner::{Finished, Job, Keep, Reporter, preflight, run_fem};
+use crate::runner::{Keep, Reporter, preflight, run_fems};
 use crate::study::Study;
 use anyhow::{Context, Result};
 use metrics::SinusoidSummary;
@@ -53,30 +53,12 @@ pub fn run_study(study: &Study, dir: &Path, rep: &dyn Reporter) -> Result<Sinuso
     let fems: Vec<(&str, &fem::Scene)> = scenes.iter().map(|(l, s)| (*l, s)).collect();
     let lanes = Lanes::new(scenes.len(), rayon::current_num_threads(), study.concurrent_runs);
     rep.planned(&preflight(study, &fems, &[], dir)?.with_lanes(lanes));
-    let labels: Vec<(String, std::path::PathBuf)> = scenes
+    let jobs: Vec<_> = scenes
         .iter()
-        .map(|(model, _)| (format!("FE {model:<8}"), dir.join(model)))
-        .collect();
-    let tasks: Vec<Task<Finished<fem::RunOutput>>> = scenes
-        .iter()
-        .zip(&labels)
-        .map(|((_, scene), (label, sub))| {
-            Box::new(move || {
-                let job = Job {
-                    scene,
-                    label,
-                    dir: sub,
-                    keep: Keep::Everything,
-                };
-                run_fem(job, rep)
-            }) as Task<Finished<fem::RunOutput>>
-        })
+        .map(|(model, scene)| (scene, format!("FE {model:<8}"), dir.join(model)))
         .collect();
     let (mut runs, mut warnings) = (Vec::new(), Vec::new());
-    for ((model, _), f) in scenes.iter().zip(concurrent::run_all(tasks, lanes)?) {
-        let f = f.ok_or_else(|| {
-            anyhow::anyhow!("invariant: a run is skipped only after an earlier one failed")
-        })??;
+    for ((model, _), f) in scenes.iter().zip(run_fems(&jobs, Keep::Everything, lanes, rep)?) {
         warnings.extend(f.warnings.iter().cloned());
         runs.push(ModelRun {
             model: model.to_string(),
