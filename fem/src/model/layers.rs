@@ -11,17 +11,13 @@ pub(crate) const BAND: usize = 16;
 /// layers of the interface and their neighbours (the insertion check reads the stresses of the
 /// elements next to the interface), the bottom and top layers, and every layer holding a
 /// prescribed DOF off its edges or a Neumann force.
-pub(crate) fn deferred_layers(
-    model_grid: &Grid,
-    fixed_dof: &[[bool; 2]],
-    neumann_nodes: &[u32],
-) -> Vec<bool> {
-    let layers = model_grid.layer_side.len();
-    let w = model_grid.nx + 1;
+pub(crate) fn deferred_layers(grid: &Grid, fixed_dof: &[[bool; 2]], neumann_nodes: &[u32]) -> Vec<bool> {
+    let layers = grid.layer_side.len();
+    let w = grid.nx + 1;
     let mut deferred = vec![false; layers];
     deferred[0] = true;
     deferred[layers - 1] = true;
-    for (layer, side) in model_grid.layer_side.iter().enumerate() {
+    for (layer, side) in grid.layer_side.iter().enumerate() {
         match side {
             LayerSide::Single => {}
             LayerSide::Minus => {
