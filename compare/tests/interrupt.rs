@@ -7,13 +7,16 @@ use compare::study::Study;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-/// Raises the stop flag at the first progress report of a run.
+/// Raises the stop flag at the first progress report of the FE run at μ = 0. Only that run
+/// raises it: runs go side by side, and a flag raised by its neighbour could stop it before its
+/// first record.
 struct StopSoon(AtomicBool);
 
 impl Reporter for StopSoon {
-    fn run_started(&self, _label: &str) -> Box<dyn FnMut(u64, u64) + Send + '_> {
-        Box::new(|done, _| {
-            if done > 0 {
+    fn run_started(&self, label: &str) -> Box<dyn FnMut(u64, u64) + Send + '_> {
+        let raises = label.starts_with("FE") && label.ends_with("μ = 0");
+        Box::new(move |done, _| {
+            if raises && done > 0 {
                 self.0.store(true, Ordering::Relaxed);
             }
         })

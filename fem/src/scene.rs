@@ -433,7 +433,7 @@ mod tests {
                 "element_sise = 1e-3\nelement_size = 0.7e-3",
             )
             .replace(
-                "ramp_start = 0.0, ramp_end = 0.002 }",
+                "ramp_start = 0.0, ramp_end = 0.004 }",
                 "ramp_start = 0.5, ramp_end = 0.6 }",
             )
             .replace(

@@ -47,7 +47,7 @@ fn a_bad_value_and_a_late_typo_are_reported_together_with_their_lines() {
 fn a_ramp_after_the_end_and_two_step_keys_are_refused() {
     let s = text("center-crack")
         .replace(
-            "ramp_start = 0.0, ramp_end = 0.002 }",
+            "ramp_start = 0.0, ramp_end = 0.004 }",
             "ramp_start = 0.03, ramp_end = 0.04 }",
         )
         .replace(

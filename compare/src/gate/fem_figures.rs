@@ -11,8 +11,8 @@ use anyhow::Result;
 use plotters::style::{BLACK, RGBColor};
 use std::path::{Path, PathBuf};
 
-/// Start of the phase Appendix B is tested in, t/T [-]: the normal load is held from 0.1 T, and
-/// 0.2 T leaves the start-up behind; the phase ends at the onset of propagation.
+/// Start of the phase Appendix B is tested in, t/T [-]: the end of the normal ramp, after which
+/// the compression is held; the phase ends at the onset of propagation.
 pub const QUASI_STATIC_FROM_OVER_T: f64 = 0.2;
 
 fn finite_max(values: impl Iterator<Item = f64>) -> f64 {

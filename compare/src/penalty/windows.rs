@@ -2,8 +2,8 @@
 //! far field (paper Figure 6c): one definition, read by the validation test and by the penalty
 //! study (`compare penalty`, paper Appendix D).
 
-/// Start of the normal-traction window, t/T [-]: the compression is held from 0.1 T (end of its
-/// ramp); the window starts once it has settled.
+/// Start of the normal-traction window, t/T [-]: the end of the compression's ramp, after which it
+/// is held (its rate S' vanishes there, eq. B.1, so the faces follow without a jolt).
 pub const NORMAL_WINDOW_START_OVER_T: f64 = 0.2;
 
 /// Delay after the stick → slip transition before the tangential window starts, /T [-].

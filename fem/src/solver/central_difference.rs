@@ -37,11 +37,11 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
     ws.clock.lap(Phase::Predictor);
     // An unsampled step sweeps memory once for the bulk forces and most of the corrector, and
     // the contact detection runs beside it (it reads x_{n+1} of Γ_det and writes only its own
-    // forces and state). With `contact_friction = "failed_only"` detection needs this step's
-    // damage, i.e. the cohesive law first: no overlap then.
-    let overlap = !sample && !model.friction_failed_only;
+    // forces and state). With `contact_friction = "failed_only"` it reads the damage of the
+    // start of the step (prepared here, before the cohesive law), on sampled steps too.
+    contact_step::prepare(model, state, ws);
+    let overlap = !sample;
     let (swept, contact) = if overlap {
-        contact_step::prepare(model, state, ws);
         let (u, v, f, sweep) = (&mut state.u, &mut state.v, &mut ws.f, &mut ws.sweep);
         let (cp, tied, x, frictionless, f_con) = (
             state.contact.as_mut(),
@@ -76,17 +76,14 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
     ws.clock.lap(Phase::Cohesive);
     let contact = match contact {
         Some(c) => c,
-        None => {
-            contact_step::prepare(model, state, ws);
-            contact_step::detect(
-                model,
-                state.contact.as_mut(),
-                &state.tied_twin,
-                &ws.x,
-                &ws.frictionless,
-                &mut ws.f_con,
-            )
-        }
+        None => contact_step::detect(
+            model,
+            state.contact.as_mut(),
+            &state.tied_twin,
+            &ws.x,
+            &ws.frictionless,
+            &mut ws.f_con,
+        ),
     };
     contact_step::apply(model, state, ws, contact);
     ws.clock.lap(Phase::Contact);

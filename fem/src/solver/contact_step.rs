@@ -71,7 +71,8 @@ pub(crate) fn apply(model: &Model, state: &mut State, ws: &mut Workspace, summar
 
 /// `contact_friction = "failed_only"`: friction is off on a node of column i unless every facet
 /// touching the column is a pre-crack or a cohesive element that has fully failed (damage 1 at
-/// both Gauss points), i.e. friction acts only where the interface has broken (paper §3.2).
+/// both Gauss points), i.e. friction acts only where the interface has broken (paper §3.2). Called
+/// before the step's cohesive law: the damage is that of the start of the step.
 fn failed_faces_only(
     row: &crate::mesh::interfaces::InterfaceRow,
     facets: &crate::model::state::Facets,
