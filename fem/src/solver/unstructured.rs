@@ -321,8 +321,8 @@ impl UnstructuredDriver {
         self.release_prescribed_accelerations();
     }
 
-    /// Advances the state by one step Δt. Allocates nothing, except for a probe record when the
-    /// capacity reserved by [`Self::run_until`] (or [`Self::reserve_steps`]) is exhausted.
+    /// Advances the state by one step Δt. Allocates nothing when called on a rayon pool thread
+    /// (as [`Self::run_until`] does) and the probe records have room ([`Self::reserve_steps`]).
     pub fn step(&mut self) {
         if self.steps == 0 {
             self.record();
@@ -367,9 +367,14 @@ impl UnstructuredDriver {
     pub fn run_until(&mut self, t_end: f64) -> Result<(), DriverError> {
         let remaining = ((t_end - self.t) / self.dt - 1e-9).ceil().max(0.0) as u64;
         self.reserve_steps(remaining);
-        for _ in 0..remaining {
-            self.step();
-        }
+        // The steps run inside a rayon scope, i.e. on a pool thread: the kernel's parallel loop
+        // then uses the worker's own deque instead of injecting jobs from outside (which
+        // allocates), as in `fem::run`.
+        rayon::scope(|_| {
+            for _ in 0..remaining {
+                self.step();
+            }
+        });
         let finite = self
             .u
             .iter()
