@@ -94,7 +94,7 @@ pub enum Prescribed {
     /// ū(t) = [`Ramp::value`] [m], the quintic smoothstep S(s) = s³(10 − 15s + 6s²) between the
     /// ramp's initial and final values; velocity [`Ramp::rate`] [m/s].
     Ramp(Ramp),
-    /// ū(t) from a closure of the time t [s] returning [displacement [m], velocity [m/s]].
+    /// ū(t) from a closure of the time t [s] returning the array (displacement [m], velocity [m/s]).
     Function(Arc<dyn Fn(f64) -> [f64; 2] + Send + Sync>),
 }
 
