@@ -1,8 +1,9 @@
 //! The no-allocation rule: nothing is allocated after `build()`. A counting global allocator watches
 //! 200 steps of a small centre crack that exercises every part of the step (bulk, Westergaard
 //! boundary, contact with friction, cohesive insertion and law, damping, sampling energies), and
-//! 50 force evaluations of the unstructured T3/Q4 kernel on the committed mixed mesh. Both checks
-//! run one after the other in the binary's only test: the test harness allocates on its own
+//! 50 force evaluations of the unstructured T3/Q4 kernel on the committed mixed mesh, and 200 steps
+//! of the unstructured driver on that mesh (prescribed ramp, rollers, probes). The checks run one
+//! after the other in the binary's only test: the test harness allocates on its own
 //! threads while a second test runs, which the global counter would see.
 
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -38,6 +39,7 @@ static GLOBAL: Counting = Counting;
 fn nothing_allocates_after_set_up() {
     time_steps_do_not_allocate();
     unstructured_forces_do_not_allocate();
+    unstructured_steps_do_not_allocate();
 }
 
 fn time_steps_do_not_allocate() {
@@ -104,5 +106,51 @@ fn unstructured_forces_do_not_allocate() {
         ALLOCATIONS.load(Ordering::SeqCst),
         0,
         "the unstructured force evaluation allocated"
+    );
+}
+
+fn unstructured_steps_do_not_allocate() {
+    use fem::solver::unstructured::{Axis, DriverOptions, GroupBc, Prescribed, UnstructuredDriver};
+    ALLOCATIONS.store(0, Ordering::SeqCst);
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../meshes/rect_mixed.msh");
+    let mesh = fem::gmsh::UnstructuredMesh::read(std::path::Path::new(path)).unwrap();
+    let mat = fem::law::elastic::PlaneStrain::new(70e6, 0.35, 1230.0);
+    let ramp = fem::scene::Ramp {
+        initial: 0.0,
+        final_value: 1e-5,
+        ramp_start: 0.0,
+        ramp_end: 1e-3,
+    };
+    let bcs = [
+        GroupBc::prescribed("left", Axis::X, Prescribed::Ramp(ramp)),
+        GroupBc::roller("top", Axis::Y),
+        GroupBc::roller("bottom", Axis::Y),
+    ];
+    let options = DriverOptions {
+        alpha: 0.5,
+        probes: vec![fem::nalgebra::Vector2::new(1.0, 0.5)],
+        probe_every: 2,
+    };
+    let mut driver = UnstructuredDriver::new(&mesh, &mat, &bcs, &options).unwrap();
+    driver.reserve_steps(210);
+    rayon::broadcast(|_| ());
+    rayon::scope(|_| {
+        for _ in 0..10 {
+            driver.step();
+        }
+    });
+    rayon::scope(|_| {
+        COUNTING.store(true, Ordering::SeqCst);
+        for _ in 0..200 {
+            driver.step();
+        }
+        COUNTING.store(false, Ordering::SeqCst);
+    });
+    assert_eq!(driver.records().len(), 1 + 105);
+    assert!(driver.displacements().iter().any(|u| u.x > 0.0));
+    assert_eq!(
+        ALLOCATIONS.load(Ordering::SeqCst),
+        0,
+        "the unstructured driver's step allocated"
     );
 }

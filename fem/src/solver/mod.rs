@@ -1,4 +1,5 @@
-//! Explicit central-difference integration and the run loop.
+//! Explicit central-difference integration and the run loop (structured grid), and the bulk-only
+//! time loop on unstructured meshes ([`unstructured`]).
 
 pub mod central_difference;
 pub(crate) mod contact_step;
@@ -7,3 +8,4 @@ pub(crate) mod node;
 pub mod profile;
 pub mod run;
 pub(crate) mod sweep;
+pub mod unstructured;

@@ -42,6 +42,8 @@ mod fem_insertion_oscillations;
 #[cfg(feature = "fem")]
 mod fem_patch_test;
 #[cfg(feature = "fem")]
+mod fem_unstructured_waves;
+#[cfg(feature = "fem")]
 mod fem_wave_speeds;
 
 // ---- Section 4 claims ----
