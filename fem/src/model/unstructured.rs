@@ -106,6 +106,8 @@ pub struct UnstructuredBulk {
     mass: Vec<f64>,
     /// Smallest element length of the stable step [m] (see [`UnstructuredBulk::min_length`]).
     h_min: f64,
+    /// Tiles one rayon task runs in a row (sharing one zeroed buffer), about 1/8 of the tiles.
+    tiles_per_task: usize,
     /// The CPU has AVX-512F (the element passes run in 512-bit registers).
     avx512: bool,
 }
@@ -285,6 +287,7 @@ impl UnstructuredBulk {
             }
         }
 
+        let tiles_per_task = (tiles.len() / 8).max(1);
         Ok(Self {
             pos: x.iter().map(|p| [p.x, p.y]).collect(),
             d: *d,
@@ -297,6 +300,7 @@ impl UnstructuredBulk {
             slots,
             mass,
             h_min,
+            tiles_per_task,
             avx512: avx512(),
         })
     }
@@ -358,7 +362,7 @@ impl UnstructuredBulk {
     fn run(&self, tiles: &[Tile], u: &[[f64; 2]], f: &mut [Vector2<f64>]) {
         match tiles {
             [] => {}
-            [t] => self.tile(t, u, f),
+            _ if tiles.len() <= self.tiles_per_task => self.tiles(tiles, u, f),
             _ => {
                 let mid = tiles.len() / 2;
                 let split = (tiles[mid].nodes[0] - tiles[0].nodes[0]) as usize;
@@ -371,20 +375,30 @@ impl UnstructuredBulk {
         }
     }
 
-    /// One tile: its element forces into a buffer on the stack, then each node's sum.
-    fn tile(&self, t: &Tile, u: &[[f64; 2]], f: &mut [Vector2<f64>]) {
+    /// Consecutive tiles, whose nodes are those of `f`, one after the other with one buffer.
+    fn tiles(&self, tiles: &[Tile], u: &[[f64; 2]], f: &mut [Vector2<f64>]) {
         let mut buf = [0.0f64; SCRATCH];
+        let first = tiles.first().map_or(0, |t| t.nodes[0]);
+        for t in tiles {
+            let nodes = (t.nodes[0] - first) as usize..(t.nodes[1] - first) as usize;
+            self.tile(t, u, &mut f[nodes], &mut buf);
+        }
+    }
+
+    /// One tile: its element forces into `buf`, then each node's sum.
+    fn tile(&self, t: &Tile, u: &[[f64; 2]], f: &mut [Vector2<f64>], buf: &mut [f64; SCRATCH]) {
         let q = &self.tile_q4[t.q4[0] as usize..t.q4[1] as usize];
         let tr = &self.tile_t3[t.t3[0] as usize..t.t3[1] as usize];
-        self.element_forces(q, tr, u, &mut buf);
+        self.element_forces(q, tr, u, buf);
         let first = t.nodes[0] as usize;
         for (i, fa) in f.iter_mut().enumerate() {
             let a = first + i;
             let slots = &self.slots[self.adj_start[a] as usize..self.adj_start[a + 1] as usize];
             let (mut fx, mut fy) = (0.0, 0.0);
             for &s in slots {
-                fx += buf[s as usize];
-                fy += buf[s as usize + L];
+                // (the masks keep the indices in range without a check: SCRATCH is a power of 2)
+                fx += buf[s as usize % SCRATCH];
+                fy += buf[(s as usize + L) % SCRATCH];
             }
             *fa = -Vector2::new(fx, fy);
         }
@@ -426,8 +440,9 @@ fn element_forces_avx512(
     element_forces(k, q, tr, u, buf)
 }
 
-/// Corner values of a batch: `[a][k][l]` for corner a, lane l, and k = x, y [m], u_x, u_y [m].
-type Batch<const N: usize> = [[[f64; L]; 4]; N];
+/// Corner values of a batch: `[a][l][k]` for corner a, lane l, and k = x, y [m], u_x, u_y [m]
+/// (two 16-byte copies per corner; the element loops read them with strided vector loads).
+type Batch<const N: usize> = [[[f64; 4]; L]; N];
 
 /// Portable element passes: batches of L elements in structure-of-arrays form; every lane runs
 /// the same scalar operations (no fused multiply-add: Rust never contracts), so the vector width
@@ -437,7 +452,7 @@ type Batch<const N: usize> = [[[f64; L]; 4]; N];
 #[inline(always)]
 fn element_forces(k: &UnstructuredBulk, q: &[u32], tr: &[u32], u: &[[f64; 2]], buf: &mut [f64; SCRATCH]) {
     let (bq, bt) = buf.split_at_mut(buffer_len(q.len(), 0));
-    let mut stage = [[[[0.0; L]; 4]; 4]; 2];
+    let mut stage = [[[[0.0; 4]; L]; 4]; 2];
     let (s0, s1) = stage.split_at_mut(1);
     let (mut cur, mut next) = (&mut s0[0], &mut s1[0]);
     let mut chunks = q.chunks(L);
@@ -451,7 +466,7 @@ fn element_forces(k: &UnstructuredBulk, q: &[u32], tr: &[u32], u: &[[f64; 2]], b
         q4_batch(cur, &k.d, out);
         std::mem::swap(&mut cur, &mut next);
     }
-    let mut stage = [[[[0.0; L]; 4]; 3]; 2];
+    let mut stage = [[[[0.0; 4]; L]; 3]; 2];
     let (s0, s1) = stage.split_at_mut(1);
     let (mut cur, mut next) = (&mut s0[0], &mut s1[0]);
     let mut chunks = tr.chunks(L);
@@ -481,7 +496,7 @@ fn gather<const N: usize>(
         let nodes = conn[chunk[l.min(chunk.len() - 1)] as usize];
         for (a, &n) in nodes.iter().enumerate() {
             let (p, v) = (pos[n as usize], u[n as usize]);
-            (dst[a][0][l], dst[a][1][l], dst[a][2][l], dst[a][3][l]) = (p[0], p[1], v[0], v[1]);
+            dst[a][l] = [p[0], p[1], v[0], v[1]];
         }
     }
 }
@@ -493,14 +508,14 @@ fn gather<const N: usize>(
 fn t3_batch(w: &Batch<3>, d: &[[f64; 3]; 3], out: &mut [f64]) {
     let out: &mut [f64; 6 * L] = out.try_into().expect("a T3 batch is 6L values");
     for l in 0..L {
-        let (x0, x1, x2) = (w[0][0][l], w[1][0][l], w[2][0][l]);
-        let (y0, y1, y2) = (w[0][1][l], w[1][1][l], w[2][1][l]);
+        let (x0, x1, x2) = (w[0][l][0], w[1][l][0], w[2][l][0]);
+        let (y0, y1, y2) = (w[0][l][1], w[1][l][1], w[2][l][1]);
         let b = [y1 - y2, y2 - y0, y0 - y1];
         let c = [x2 - x1, x0 - x2, x1 - x0];
         let inv = 1.0 / ((x1 - x0) * (y2 - y0) - (y1 - y0) * (x2 - x0));
         let mut e = [0.0; 3];
         for a in 0..3 {
-            let (ux, uy) = (w[a][2][l], w[a][3][l]);
+            let (ux, uy) = (w[a][l][2], w[a][l][3]);
             e[0] += b[a] * ux;
             e[1] += c[a] * uy;
             e[2] += c[a] * ux + b[a] * uy;
@@ -539,11 +554,24 @@ fn q4_batch(w: &Batch<4>, d: &[[f64; 3]; 3], out: &mut [f64]) {
             q4_derivatives(w, 2, l, g),
             q4_derivatives(w, 3, l, g),
         ];
-        // Gauss points (ξ, η) = g(−1, −1), g(1, −1), g(1, 1), g(−1, 1)
-        let (p0, q0) = gauss_point(&dv, 0, 0, d);
-        let (p1, q1) = gauss_point(&dv, 0, 1, d);
-        let (p2, q2) = gauss_point(&dv, 1, 1, d);
-        let (p3, q3) = gauss_point(&dv, 1, 0, d);
+        // Gauss points (ξ, η) = g(−1, −1), g(1, −1), g(1, 1), g(−1, 1): (η index, ξ index) into
+        // the derivative pairs; 1/det J at all four from one division (16 det J = 4h² for an
+        // element of size h: the product of four stays within f64 for 1e-18 m < h < 1e18 m)
+        let gp = [(0, 0), (0, 1), (1, 1), (1, 0)];
+        let det = [
+            q4_det(&dv, gp[0]),
+            q4_det(&dv, gp[1]),
+            q4_det(&dv, gp[2]),
+            q4_det(&dv, gp[3]),
+        ];
+        let (d01, d23) = (det[0] * det[1], det[2] * det[3]);
+        let r = 1.0 / (d01 * d23);
+        let (r01, r23) = (d23 * r, d01 * r);
+        let inv = [det[1] * r01, det[0] * r01, det[3] * r23, det[2] * r23];
+        let (p0, q0) = gauss_point(&dv, gp[0], inv[0], d);
+        let (p1, q1) = gauss_point(&dv, gp[1], inv[1], d);
+        let (p2, q2) = gauss_point(&dv, gp[2], inv[2], d);
+        let (p3, q3) = gauss_point(&dv, gp[3], inv[3], d);
         // P and Q are 4× the true ones (the derivatives are 4× too): f_a carries 1/16
         for c in 0..2 {
             let (p_sum, p_eta) = (
@@ -568,19 +596,29 @@ fn q4_batch(w: &Batch<4>, d: &[[f64; 3]; 3], out: &mut [f64]) {
 /// `l`.
 #[inline(always)]
 fn q4_derivatives(w: &Batch<4>, k: usize, l: usize, g: f64) -> [[f64; 2]; 2] {
-    let (v0, v1, v2, v3) = (w[0][k][l], w[1][k][l], w[2][k][l], w[3][k][l]);
+    let (v0, v1, v2, v3) = (w[0][l][k], w[1][l][k], w[2][l][k], w[3][l][k]);
     let (a, b, c, e) = (v1 - v0, v2 - v3, v3 - v0, v2 - v1);
     let (sx, dx, se, de) = (a + b, g * (b - a), c + e, g * (e - c));
     [[sx - dx, sx + dx], [se - de, se + de]]
 }
 
-/// (4P, 4Q) of [`q4_batch`] at the Gauss point with η index `ie` and ξ index `ix` (0: −g, 1: +g),
-/// from the derivatives `dv` of [`q4_derivatives`].
+/// 16 det J = 4x_ξ 4y_η − 4x_η 4y_ξ at Gauss point (η index, ξ index) of [`q4_batch`].
 #[inline(always)]
-fn gauss_point(dv: &[[[f64; 2]; 2]; 4], ie: usize, ix: usize, d: &[[f64; 3]; 3]) -> ([f64; 2], [f64; 2]) {
+fn q4_det(dv: &[[[f64; 2]; 2]; 4], (ie, ix): (usize, usize)) -> f64 {
+    dv[0][0][ie] * dv[1][1][ix] - dv[0][1][ix] * dv[1][0][ie]
+}
+
+/// (4P, 4Q) of [`q4_batch`] at the Gauss point with η index `ie` and ξ index `ix` (0: −g, 1: +g),
+/// from the derivatives `dv` of [`q4_derivatives`] and `inv` = 1/(16 det J) there.
+#[inline(always)]
+fn gauss_point(
+    dv: &[[[f64; 2]; 2]; 4],
+    (ie, ix): (usize, usize),
+    inv: f64,
+    d: &[[f64; 3]; 3],
+) -> ([f64; 2], [f64; 2]) {
     let (xx, yx, uxx, uyx) = (dv[0][0][ie], dv[1][0][ie], dv[2][0][ie], dv[3][0][ie]);
     let (xe, ye, uxe, uye) = (dv[0][1][ix], dv[1][1][ix], dv[2][1][ix], dv[3][1][ix]);
-    let inv = 1.0 / (xx * ye - xe * yx);
     let e0 = (uxx * ye - uxe * yx) * inv;
     let e1 = (uye * xx - uyx * xe) * inv;
     let e2 = (uxe * xx - uxx * xe + uyx * ye - uye * yx) * inv;
