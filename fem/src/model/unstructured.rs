@@ -16,7 +16,7 @@
 //! shared D, the connectivity (12 B per T3, 16 B per Q4) and, per node, one 2-byte slot per
 //! adjacent element. Each evaluation recomputes the element forces f_e = Bᵀσ from the positions,
 //! as explicit codes do (Belytschko, Liu & Moran, *Nonlinear Finite Elements for Continua and
-//! Structures*, §6.2: the element loop computes ε = B u_e, σ = D ε and Bᵀσ, never K_e): about
+//! Structures*, ch. 4: internal nodal forces f_e = ∫ Bᵀσ dΩ from ε = B u_e and σ = D ε): about
 //! 60 flops per T3 and 250 per Q4, vectorised over 8 elements at a time, where streaming a K_e
 //! (288 B per T3, 512 B per Q4) from memory made the old kernel bandwidth-bound. For the Q4 the
 //! Jacobians come from the edge vectors of the element, as in [`crate::model::mapped`].
