@@ -71,6 +71,11 @@ fn bench_unstructured(c: &mut Criterion, name: &str, triangles: bool) {
     let mat = fem::law::elastic::PlaneStrain::new(70e6, 0.35, 1230.0);
     let bulk = UnstructuredBulk::new(&mesh, &mat.d_matrix(), mat.density).unwrap();
     let n = bulk.num_nodes();
+    println!(
+        "{name}: kernel arrays {} B for {n} nodes, {:.1} B per node",
+        bulk.memory_bytes(),
+        bulk.memory_bytes() as f64 / n as f64
+    );
     let u = displacements(n);
     let mut f = vec![Vector2::zeros(); n];
     let mut g = c.benchmark_group("bulk_forces");

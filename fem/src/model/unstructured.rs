@@ -1,32 +1,51 @@
 //! The bulk kernel on unstructured meshes of T3 and Q4 elements ([`crate::gmsh::UnstructuredMesh`]):
-//! element stiffnesses, lumped masses, the smallest element length of the stable step, and the
-//! race-free rayon gather of the internal forces. Not used by the time loop yet (docs/meshes.md).
+//! lumped masses, the smallest element length of the stable step, and the race-free, deterministic
+//! rayon evaluation of the internal forces. Not used by the time loop yet (docs/meshes.md).
 //!
 //! Elements (plane strain, thickness 1 m, so forces are per metre of thickness):
-//! - **T3**, the constant-strain triangle: K_e = A t Bᵀ D B with t = 1 m and the constant
+//! - **T3**, the constant-strain triangle: f_e = A t Bᵀ D B u_e with t = 1 m and the constant
 //!   B = 1/(2A) [[b₀, 0, b₁, 0, b₂, 0], [0, c₀, 0, c₁, 0, c₂], [c₀, b₀, c₁, b₁, c₂, b₂]],
 //!   b_i = y_j − y_k, c_i = x_k − x_j for (i, j, k) cyclic (Zienkiewicz, Taylor & Zhu, *The Finite
-//!   Element Method: Its Basis and Fundamentals*, 7th ed., §6.2). Exact, 6×6. Lumped mass ρA/3 per
-//!   node (the row sum of the consistent mass).
-//! - **Q4**, the bilinear quadrangle with 2×2 Gauss points: `model::bulk::stiffness` and
-//!   `model::bulk::lumped_mass`, the structured grid's element (docs/fem-model.md §1).
+//!   Element Method: Its Basis and Fundamentals*, 7th ed., §6.2). Lumped mass ρA/3 per node (the
+//!   row sum of the consistent mass).
+//! - **Q4**, the bilinear quadrangle with 2×2 Gauss points: f_e = Σ_q B_qᵀ D B_q u_e det J_q, the
+//!   K_e u_e of `model::bulk::stiffness`, and `model::bulk::lumped_mass`, the structured grid's
+//!   element (docs/fem-model.md §1).
 //!
-//! Storage: each node a gathers f_a = −Σ_e K_e[a-rows] u_e over its elements e. The two rows of
-//! K_e that belong to node a (2 × 2n values for an n-node element) are copied, at build time,
-//! into one array in the order the gather reads them (node by node, element by element). A
-//! triangle therefore stores 6×6 values and a quadrangle 8×8, with no padding, and the gather
-//! streams through that array once per evaluation instead of jumping between elements. The total
-//! is the same as one K_e per element (each row belongs to exactly one node).
+//! Storage: no element matrix is stored. The kernel keeps the node positions (16 B per node), the
+//! shared D, the connectivity (12 B per T3, 16 B per Q4) and, per node, one 2-byte slot per
+//! adjacent element. Each evaluation recomputes the element forces f_e = Bᵀσ from the positions,
+//! as explicit codes do (Belytschko, Liu & Moran, *Nonlinear Finite Elements for Continua and
+//! Structures*, ch. 4: internal nodal forces f_e = ∫ Bᵀσ dΩ from ε = B u_e and σ = D ε): about
+//! 60 flops per T3 and 250 per Q4, vectorised over 8 elements at a time, where streaming a K_e
+//! (288 B per T3, 512 B per Q4) from memory made the old kernel bandwidth-bound. For the Q4 the
+//! Jacobians come from the edge vectors of the element, as in [`crate::model::mapped`].
+//!
+//! The nodes are cut, at build time, into tiles of consecutive nodes. Each tile lists the
+//! elements adjacent to its nodes (those on a tile's edge are listed by both neighbours and
+//! computed twice), computes their forces into a buffer on the stack (256 KiB: it stays in the
+//! core's L2), and every node then sums its elements' forces from that buffer through its slots,
+//! in a fixed order (elements sorted by their lowest node, then by mesh index). Tiles run in
+//! parallel and write disjoint node ranges, so the result is the same to the bit for any number of
+//! threads, and the element passes use the same operations with or without AVX-512.
 
 use crate::gmsh::{ElementKind, UnstructuredMesh};
 use crate::model::bulk;
 use nalgebra::Vector2;
-use rayon::prelude::*;
 use thiserror::Error;
 
-/// Nodes per rayon task of the gather: large enough that a task's cost dwarfs the scheduling,
-/// small enough to balance 2 threads on meshes of a few thousand nodes.
-const CHUNK: usize = 1024;
+/// Elements per vector batch (structure of arrays, one lane per element).
+const L: usize = 8;
+
+/// f64 values of a tile's element-force buffer (256 KiB on the stack; must fit `u16` offsets).
+const SCRATCH: usize = 32 * 1024;
+
+/// Nodes per tile at least (unless the buffer is full first): a tile's work must dwarf the cost
+/// of a rayon task.
+const MIN_TILE_NODES: usize = 256;
+
+/// Tiles per mesh aimed at, so that 2 threads balance; the buffer may force more.
+const TARGET_TILES: usize = 16;
 
 /// A mesh the unstructured kernel cannot be built on.
 #[derive(Debug, Error, Clone, PartialEq)]
@@ -44,38 +63,58 @@ pub enum UnstructuredError {
     /// A density that is not finite and positive.
     #[error("density = {0} kg/m³ must be finite and positive")]
     BadDensity(f64),
-    /// More nodes or element entries than the 32-bit indices of the kernel hold.
+    /// More nodes or element entries than the 32-bit indices of the kernel hold, or a node with
+    /// more elements than one tile's buffer holds.
     #[error("the mesh is too large for the kernel's 32-bit indices")]
     TooLarge,
 }
 
-/// One (element, local node) entry of a node's adjacency.
+/// A range of consecutive nodes and the elements adjacent to them.
 #[derive(Debug, Clone, Copy)]
-struct Entry {
-    /// Start of the element's nodes in `UnstructuredBulk::conn`.
-    conn: u32,
-    /// Number of nodes of the element (3 or 4).
-    n: u32,
+struct Tile {
+    /// First node and one past the last.
+    nodes: [u32; 2],
+    /// Range of the tile's Q4 in `UnstructuredBulk::tile_q4`.
+    q4: [u32; 2],
+    /// Range of the tile's T3 in `UnstructuredBulk::tile_t3`.
+    t3: [u32; 2],
 }
 
 /// The bulk of an unstructured T3/Q4 mesh, ready for force evaluations.
 #[derive(Debug, Clone)]
 pub struct UnstructuredBulk {
-    /// Node indices of every element, element after element.
-    conn: Vec<u32>,
-    /// CSR offsets into `entries` per node (length: nodes + 1).
+    /// Node positions (x, y) [m].
+    pos: Vec<[f64; 2]>,
+    /// Plane-strain Voigt matrix D [Pa].
+    d: [[f64; 3]; 3],
+    /// Node indices of each Q4, sorted by lowest node then mesh index.
+    q4: Vec<[u32; 4]>,
+    /// Node indices of each T3, sorted as the Q4.
+    t3: Vec<[u32; 3]>,
+    /// The tiles, covering the nodes in order.
+    tiles: Vec<Tile>,
+    /// Each tile's Q4 (indices into `q4`), ascending.
+    tile_q4: Vec<u32>,
+    /// Each tile's T3 (indices into `t3`), ascending.
+    tile_t3: Vec<u32>,
+    /// CSR offsets into `slots` per node (length: nodes + 1).
     adj_start: Vec<u32>,
-    /// A node's elements, in ascending element index (fixes the order of each node's sum).
-    entries: Vec<Entry>,
-    /// Offset of each node's stiffness rows in `rows` (length: nodes + 1).
-    rows_start: Vec<usize>,
-    /// For every entry in CSR order: the x row then the y row of K_e for that local node, each
-    /// of 2n values in DOF order x₀, y₀, x₁, y₁, … [N/m per m].
-    rows: Vec<f64>,
+    /// Per node and adjacent element (in the fixed summation order): the offset, in its tile's
+    /// buffer, of the x component of that element's force on the node (y is `L` further).
+    slots: Vec<u16>,
     /// Lumped nodal masses [kg/m].
     mass: Vec<f64>,
     /// Smallest element length of the stable step [m] (see [`UnstructuredBulk::min_length`]).
     h_min: f64,
+    /// Tiles one rayon task runs in a row (sharing one zeroed buffer), about 1/8 of the tiles.
+    tiles_per_task: usize,
+    /// The CPU has AVX-512F (the element passes run in 512-bit registers).
+    avx512: bool,
+}
+
+/// Buffer values of `nq` Q4 and `nt` T3 (whole batches of L, 2 components per node).
+fn buffer_len(nq: usize, nt: usize) -> usize {
+    nq.div_ceil(L) * L * 8 + nt.div_ceil(L) * L * 6
 }
 
 impl UnstructuredBulk {
@@ -92,17 +131,10 @@ impl UnstructuredBulk {
         }
         let x = &mesh.positions;
 
-        // element stiffnesses (flat, (2n)² values each), masses, connectivity, h_min
-        let mut ke = Vec::with_capacity(total * 4 * 4);
-        let mut ke_start = Vec::with_capacity(mesh.elements.len() + 1);
-        let mut conn = Vec::with_capacity(total);
-        let mut conn_start = Vec::with_capacity(mesh.elements.len() + 1);
+        // validity, masses, h_min
         let mut mass = vec![0.0; nn];
         let mut h_min = f64::INFINITY;
         for el in &mesh.elements {
-            ke_start.push(ke.len());
-            conn_start.push(conn.len());
-            conn.extend(el.nodes.iter().map(|&a| a as u32));
             let inverted = |det_j: f64| UnstructuredError::InvertedElement {
                 element: el.tag,
                 det_j,
@@ -110,15 +142,22 @@ impl UnstructuredBulk {
             let (area, m) = match el.kind {
                 ElementKind::T3 => {
                     let c = [x[el.nodes[0]], x[el.nodes[1]], x[el.nodes[2]]];
-                    let k = cst_stiffness(&c, d).map_err(inverted)?;
-                    ke.extend(k.iter().flatten());
-                    let area = 0.5 * (c[1] - c[0]).perp(&(c[2] - c[0]));
+                    let two_a = (c[1] - c[0]).perp(&(c[2] - c[0]));
+                    if two_a <= 0.0 || !two_a.is_finite() {
+                        return Err(inverted(two_a));
+                    }
+                    let area = 0.5 * two_a;
                     (area, vec![density * area / 3.0; 3])
                 }
                 ElementKind::Q4 => {
                     let c = [x[el.nodes[0]], x[el.nodes[1]], x[el.nodes[2]], x[el.nodes[3]]];
-                    let k = bulk::stiffness(&c, d).map_err(inverted)?;
-                    ke.extend(k.iter().flatten());
+                    let g = 1.0 / 3f64.sqrt();
+                    for &(s, t) in &bulk::GAUSS_SIGNS {
+                        let (_, det) = bulk::shape_gradients(&c, s * g, t * g);
+                        if det <= 0.0 || !det.is_finite() {
+                            return Err(inverted(det));
+                        }
+                    }
                     let area = 0.5 * ((c[2] - c[0]).perp(&(c[3] - c[1])));
                     (area, bulk::lumped_mass(&c, density).to_vec())
                 }
@@ -128,53 +167,141 @@ impl UnstructuredBulk {
             }
             h_min = h_min.min(element_length(el.kind, area, &el.nodes, x));
         }
-        ke_start.push(ke.len());
-        conn_start.push(conn.len());
 
-        // node → (element, local) in CSR form; elements are visited in ascending index, so each
-        // node's list is sorted by element index
+        // the kernel's element order: by lowest node, then mesh index (elements that share nodes
+        // end up close together, whatever order the mesh file has them in)
+        let mut order: Vec<usize> = (0..mesh.elements.len()).collect();
+        order.sort_by_key(|&e| (mesh.elements[e].nodes.iter().min().copied(), e));
+        let mut q4 = Vec::new();
+        let mut t3 = Vec::new();
+        // node → (Q4?, index in q4 or t3, local node) in CSR form, in the kernel's element order
         let mut adj_start = vec![0u32; nn + 1];
-        for &a in &conn {
-            adj_start[a as usize + 1] += 1;
+        for &a in mesh.elements.iter().flat_map(|el| &el.nodes) {
+            adj_start[a + 1] += 1;
         }
         for a in 0..nn {
             adj_start[a + 1] += adj_start[a];
         }
         let mut fill: Vec<u32> = adj_start[..nn].to_vec();
-        let mut adj = vec![(0usize, 0usize); total];
-        for (e, el) in mesh.elements.iter().enumerate() {
+        let mut adj = vec![(false, 0u32, 0u8); total];
+        for &e in &order {
+            let el = &mesh.elements[e];
+            let (is_q4, index) = match el.kind {
+                ElementKind::Q4 => {
+                    q4.push([0, 1, 2, 3].map(|k| el.nodes[k] as u32));
+                    (true, q4.len() - 1)
+                }
+                ElementKind::T3 => {
+                    t3.push([0, 1, 2].map(|k| el.nodes[k] as u32));
+                    (false, t3.len() - 1)
+                }
+            };
             for (la, &a) in el.nodes.iter().enumerate() {
-                adj[fill[a] as usize] = (e, la);
+                adj[fill[a] as usize] = (is_q4, index as u32, la as u8);
                 fill[a] += 1;
             }
         }
+        let adj_of = |a: usize| &adj[adj_start[a] as usize..adj_start[a + 1] as usize];
 
-        // each node's rows of K_e, in CSR order
-        let mut entries = Vec::with_capacity(total);
-        let mut rows = Vec::with_capacity(ke.len());
-        let mut rows_start = Vec::with_capacity(nn + 1);
-        for a in 0..nn {
-            rows_start.push(rows.len());
-            for &(e, la) in &adj[adj_start[a] as usize..adj_start[a + 1] as usize] {
-                let n = conn_start[e + 1] - conn_start[e];
-                let k = &ke[ke_start[e]..ke_start[e + 1]];
-                rows.extend_from_slice(&k[2 * la * 2 * n..(2 * la + 2) * 2 * n]);
-                entries.push(Entry {
-                    conn: conn_start[e] as u32,
-                    n: n as u32,
-                });
+        // tiles: consecutive nodes while their elements fit the buffer
+        let max_nodes = nn.div_ceil(TARGET_TILES).max(MIN_TILE_NODES);
+        let mut seen_q4 = vec![u32::MAX; q4.len()];
+        let mut seen_t3 = vec![u32::MAX; t3.len()];
+        let (mut tiles, mut tile_q4, mut tile_t3) = (Vec::new(), Vec::new(), Vec::new());
+        let mut a = 0;
+        while a < nn {
+            let id = tiles.len() as u32;
+            let (first, q_first, t_first) = (a, tile_q4.len(), tile_t3.len());
+            while a < nn && a - first < max_nodes {
+                let fresh = |is_q4: bool| {
+                    adj_of(a)
+                        .iter()
+                        .filter(|&&(q, i, _)| {
+                            q == is_q4
+                                && if q {
+                                    seen_q4[i as usize]
+                                } else {
+                                    seen_t3[i as usize]
+                                } != id
+                        })
+                        .count()
+                };
+                let (nq, nt) = (
+                    tile_q4.len() - q_first + fresh(true),
+                    tile_t3.len() - t_first + fresh(false),
+                );
+                if buffer_len(nq, nt) > SCRATCH {
+                    if a == first {
+                        return Err(UnstructuredError::TooLarge);
+                    }
+                    break;
+                }
+                for &(is_q4, i, _) in adj_of(a) {
+                    let (seen, list) = if is_q4 {
+                        (&mut seen_q4[i as usize], &mut tile_q4)
+                    } else {
+                        (&mut seen_t3[i as usize], &mut tile_t3)
+                    };
+                    if *seen != id {
+                        *seen = id;
+                        list.push(i);
+                    }
+                }
+                a += 1;
+            }
+            tile_q4[q_first..].sort_unstable();
+            tile_t3[t_first..].sort_unstable();
+            tiles.push(Tile {
+                nodes: [first as u32, a as u32],
+                q4: [q_first as u32, tile_q4.len() as u32],
+                t3: [t_first as u32, tile_t3.len() as u32],
+            });
+        }
+
+        // each node's slots in its tile's buffer (Q4 batches first, then T3 batches; in a batch
+        // of L elements, node k's x components at 2kL + lane, its y components L further)
+        let mut slot_q4 = vec![0usize; q4.len()];
+        let mut slot_t3 = vec![0usize; t3.len()];
+        let mut slots = Vec::with_capacity(total);
+        for t in &tiles {
+            let (lq, lt) = (
+                &tile_q4[t.q4[0] as usize..t.q4[1] as usize],
+                &tile_t3[t.t3[0] as usize..t.t3[1] as usize],
+            );
+            for (p, &i) in lq.iter().enumerate() {
+                slot_q4[i as usize] = (p / L) * 8 * L + p % L;
+            }
+            let t3_base = buffer_len(lq.len(), 0);
+            for (p, &i) in lt.iter().enumerate() {
+                slot_t3[i as usize] = t3_base + (p / L) * 6 * L + p % L;
+            }
+            for a in t.nodes[0] as usize..t.nodes[1] as usize {
+                for &(is_q4, i, la) in adj_of(a) {
+                    let base = if is_q4 {
+                        slot_q4[i as usize]
+                    } else {
+                        slot_t3[i as usize]
+                    };
+                    slots.push((base + 2 * L * la as usize) as u16);
+                }
             }
         }
-        rows_start.push(rows.len());
 
+        let tiles_per_task = (tiles.len() / 8).max(1);
         Ok(Self {
-            conn,
+            pos: x.iter().map(|p| [p.x, p.y]).collect(),
+            d: *d,
+            q4,
+            t3,
+            tiles,
+            tile_q4,
+            tile_t3,
             adj_start,
-            entries,
-            rows_start,
-            rows,
+            slots,
             mass,
             h_min,
+            tiles_per_task,
+            avx512: avx512(),
         })
     }
 
@@ -206,89 +333,302 @@ impl UnstructuredBulk {
         crate::law::elastic::stable_time_step(alpha, self.h_min, cd, 0.0)
     }
 
+    /// Bytes of the kernel's arrays (positions, connectivity, tiles and slots, masses).
+    pub fn memory_bytes(&self) -> usize {
+        use std::mem::size_of_val;
+        size_of_val(&self.pos[..])
+            + size_of_val(&self.q4[..])
+            + size_of_val(&self.t3[..])
+            + size_of_val(&self.tiles[..])
+            + size_of_val(&self.tile_q4[..])
+            + size_of_val(&self.tile_t3[..])
+            + size_of_val(&self.adj_start[..])
+            + size_of_val(&self.slots[..])
+            + size_of_val(&self.mass[..])
+    }
+
     /// f = −f_int(u) [N/m] for displacements `u` [m] (overwrites `f`): every node gathers
-    /// f_a = −Σ_e K_e[a-rows] u_e over its elements in ascending element index. Parallel over
-    /// blocks of nodes; each task writes only its own nodes and each node's sum has a fixed
-    /// order, so the result is the same to the bit for any number of threads. Allocates nothing.
+    /// f_a = −Σ_e f_e[a] over its elements in a fixed order (see the module documentation).
+    /// Parallel over tiles of nodes; each task writes only its own nodes and each node's sum has a
+    /// fixed order, so the result is the same to the bit for any number of threads. Allocates
+    /// nothing.
     pub fn internal_forces(&self, u: &[Vector2<f64>], f: &mut [Vector2<f64>]) {
         assert_eq!(u.len(), self.num_nodes(), "one displacement per node");
         assert_eq!(f.len(), self.num_nodes(), "one force per node");
-        f.par_chunks_mut(CHUNK).enumerate().for_each(|(c, fc)| {
-            let first = c * CHUNK;
-            for (i, fa) in fc.iter_mut().enumerate() {
-                *fa = self.node_force(first + i, u);
-            }
-        });
+        self.run(&self.tiles, bytemuck::cast_slice(u), f);
     }
 
-    /// −Σ_e K_e[a-rows] u_e for node a, in CSR order.
-    #[inline]
-    fn node_force(&self, a: usize, u: &[Vector2<f64>]) -> Vector2<f64> {
-        let entries = &self.entries[self.adj_start[a] as usize..self.adj_start[a + 1] as usize];
-        let mut r = self.rows_start[a];
-        let (mut fx, mut fy) = (0.0, 0.0);
-        for ent in entries {
-            let n = ent.n as usize;
-            let nodes = &self.conn[ent.conn as usize..ent.conn as usize + n];
-            let k = &self.rows[r..r + 4 * n];
-            let (gx, gy) = if n == 4 {
-                row_force::<4>(k, nodes, u)
-            } else {
-                row_force::<3>(k, nodes, u)
-            };
-            fx += gx;
-            fy += gy;
-            r += 4 * n;
+    /// The tiles `tiles`, whose nodes are those of `f`, split in halves across rayon tasks.
+    fn run(&self, tiles: &[Tile], u: &[[f64; 2]], f: &mut [Vector2<f64>]) {
+        match tiles {
+            [] => {}
+            _ if tiles.len() <= self.tiles_per_task => self.tiles(tiles, u, f),
+            _ => {
+                let mid = tiles.len() / 2;
+                let split = (tiles[mid].nodes[0] - tiles[0].nodes[0]) as usize;
+                let (lo, hi) = f.split_at_mut(split);
+                rayon::join(
+                    || self.run(&tiles[..mid], u, lo),
+                    || self.run(&tiles[mid..], u, hi),
+                );
+            }
         }
-        -Vector2::new(fx, fy)
+    }
+
+    /// Consecutive tiles, whose nodes are those of `f`, one after the other with one buffer.
+    fn tiles(&self, tiles: &[Tile], u: &[[f64; 2]], f: &mut [Vector2<f64>]) {
+        let mut buf = [0.0f64; SCRATCH];
+        let first = tiles.first().map_or(0, |t| t.nodes[0]);
+        for t in tiles {
+            let nodes = (t.nodes[0] - first) as usize..(t.nodes[1] - first) as usize;
+            self.tile(t, u, &mut f[nodes], &mut buf);
+        }
+    }
+
+    /// One tile: its element forces into `buf`, then each node's sum.
+    fn tile(&self, t: &Tile, u: &[[f64; 2]], f: &mut [Vector2<f64>], buf: &mut [f64; SCRATCH]) {
+        let q = &self.tile_q4[t.q4[0] as usize..t.q4[1] as usize];
+        let tr = &self.tile_t3[t.t3[0] as usize..t.t3[1] as usize];
+        self.element_forces(q, tr, u, buf);
+        let first = t.nodes[0] as usize;
+        for (i, fa) in f.iter_mut().enumerate() {
+            let a = first + i;
+            let slots = &self.slots[self.adj_start[a] as usize..self.adj_start[a + 1] as usize];
+            let (mut fx, mut fy) = (0.0, 0.0);
+            for &s in slots {
+                // (the masks keep the indices in range without a check: SCRATCH is a power of 2)
+                fx += buf[s as usize % SCRATCH];
+                fy += buf[(s as usize + L) % SCRATCH];
+            }
+            *fa = -Vector2::new(fx, fy);
+        }
+    }
+
+    /// The forces f_e = K_e u_e of the Q4 `q` and the T3 `tr` into `buf` (layout: see
+    /// `slots`), with AVX-512 if the CPU has it (same operations, same bits).
+    fn element_forces(&self, q: &[u32], tr: &[u32], u: &[[f64; 2]], buf: &mut [f64; SCRATCH]) {
+        #[cfg(target_arch = "x86_64")]
+        if self.avx512 {
+            // SAFETY: `avx512` is true only if the CPU reported AVX-512F at run time (`avx512()`).
+            return unsafe { element_forces_avx512(self, q, tr, u, buf) };
+        }
+        element_forces(self, q, tr, u, buf)
     }
 }
 
-/// (K[x-row] · u_e, K[y-row] · u_e) for one local node of an N-node element; `k` holds the x row
-/// then the y row (2N values each).
+/// Whether the element passes may use AVX-512F.
+fn avx512() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("avx512f")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn element_forces_avx512(
+    k: &UnstructuredBulk,
+    q: &[u32],
+    tr: &[u32],
+    u: &[[f64; 2]],
+    buf: &mut [f64; SCRATCH],
+) {
+    element_forces(k, q, tr, u, buf)
+}
+
+/// Corner values of a batch: `[a][l][k]` for corner a, lane l, and k = x, y [m], u_x, u_y [m]
+/// (two 16-byte copies per corner; the element loops read them with strided vector loads).
+type Batch<const N: usize> = [[[f64; 4]; L]; N];
+
+/// Portable element passes: batches of L elements in structure-of-arrays form; every lane runs
+/// the same scalar operations (no fused multiply-add: Rust never contracts), so the vector width
+/// does not change a bit. The corner values of the next batch are gathered before the current
+/// one is computed: vector loads of values just stored one lane at a time would stall on store
+/// forwarding.
 #[inline(always)]
-fn row_force<const N: usize>(k: &[f64], nodes: &[u32], u: &[Vector2<f64>]) -> (f64, f64) {
-    let (kx, ky) = k.split_at(2 * N);
-    let (mut fx, mut fy) = (0.0, 0.0);
-    for b in 0..N {
-        let ub = u[nodes[b] as usize];
-        fx += kx[2 * b] * ub.x + kx[2 * b + 1] * ub.y;
-        fy += ky[2 * b] * ub.x + ky[2 * b + 1] * ub.y;
+fn element_forces(k: &UnstructuredBulk, q: &[u32], tr: &[u32], u: &[[f64; 2]], buf: &mut [f64; SCRATCH]) {
+    let (bq, bt) = buf.split_at_mut(buffer_len(q.len(), 0));
+    let mut stage = [[[[0.0; 4]; L]; 4]; 2];
+    let (s0, s1) = stage.split_at_mut(1);
+    let (mut cur, mut next) = (&mut s0[0], &mut s1[0]);
+    let mut chunks = q.chunks(L);
+    if let Some(c) = chunks.next() {
+        gather(&k.q4, &k.pos, u, c, cur);
     }
-    (fx, fy)
+    for out in bq.chunks_exact_mut(8 * L) {
+        if let Some(c) = chunks.next() {
+            gather(&k.q4, &k.pos, u, c, next);
+        }
+        q4_batch(cur, &k.d, out);
+        std::mem::swap(&mut cur, &mut next);
+    }
+    let mut stage = [[[[0.0; 4]; L]; 3]; 2];
+    let (s0, s1) = stage.split_at_mut(1);
+    let (mut cur, mut next) = (&mut s0[0], &mut s1[0]);
+    let mut chunks = tr.chunks(L);
+    if let Some(c) = chunks.next() {
+        gather(&k.t3, &k.pos, u, c, cur);
+    }
+    for out in bt.chunks_exact_mut(6 * L) {
+        if let Some(c) = chunks.next() {
+            gather(&k.t3, &k.pos, u, c, next);
+        }
+        t3_batch(cur, &k.d, out);
+        std::mem::swap(&mut cur, &mut next);
+    }
 }
 
-/// Constant-strain triangle K_e = A t Bᵀ D B (t = 1 m) [N/m per m], DOF order x₀, y₀, x₁, y₁,
-/// x₂, y₂; Err(2A) [m²] for a clockwise or degenerate triangle.
-fn cst_stiffness(c: &[Vector2<f64>; 3], d: &[[f64; 3]; 3]) -> Result<[[f64; 6]; 6], f64> {
-    let two_a = (c[1] - c[0]).perp(&(c[2] - c[0]));
-    if two_a <= 0.0 || !two_a.is_finite() {
-        return Err(two_a);
-    }
-    let mut b = [[0.0; 6]; 3];
-    for i in 0..3 {
-        let (j, k) = ((i + 1) % 3, (i + 2) % 3);
-        // ∂N_i/∂x = b_i/(2A), ∂N_i/∂y = c_i/(2A)
-        let (bi, ci) = ((c[j].y - c[k].y) / two_a, (c[k].x - c[j].x) / two_a);
-        b[0][2 * i] = bi;
-        b[1][2 * i + 1] = ci;
-        b[2][2 * i] = ci;
-        b[2][2 * i + 1] = bi;
-    }
-    let area = 0.5 * two_a;
-    let mut k = [[0.0; 6]; 6];
-    for (i, ki) in k.iter_mut().enumerate() {
-        for (j, kij) in ki.iter_mut().enumerate() {
-            let mut sum = 0.0;
-            for p in 0..3 {
-                for q in 0..3 {
-                    sum += b[p][i] * d[p][q] * b[q][j];
-                }
-            }
-            *kij = area * sum;
+/// The corner positions and displacements of the elements `chunk` (1 to L of them; the last
+/// one fills the lanes left over).
+#[inline(always)]
+fn gather<const N: usize>(
+    conn: &[[u32; N]],
+    pos: &[[f64; 2]],
+    u: &[[f64; 2]],
+    chunk: &[u32],
+    dst: &mut Batch<N>,
+) {
+    for l in 0..L {
+        let nodes = conn[chunk[l.min(chunk.len() - 1)] as usize];
+        for (a, &n) in nodes.iter().enumerate() {
+            let (p, v) = (pos[n as usize], u[n as usize]);
+            dst[a][l] = [p[0], p[1], v[0], v[1]];
         }
     }
-    Ok(k)
+}
+
+/// K_e u_e of L constant-strain triangles (corner values `w`, see [`Batch`]) into
+/// out[(2a + c)L + l] [N/m] for corner a, component c, lane l. ε = B u_e, σ = D ε,
+/// f_a = A B_aᵀσ = ½ (b_a σ_xx + c_a σ_xy, c_a σ_yy + b_a σ_xy).
+#[inline(always)]
+fn t3_batch(w: &Batch<3>, d: &[[f64; 3]; 3], out: &mut [f64]) {
+    let out: &mut [f64; 6 * L] = out.try_into().expect("a T3 batch is 6L values");
+    for l in 0..L {
+        let (x0, x1, x2) = (w[0][l][0], w[1][l][0], w[2][l][0]);
+        let (y0, y1, y2) = (w[0][l][1], w[1][l][1], w[2][l][1]);
+        let b = [y1 - y2, y2 - y0, y0 - y1];
+        let c = [x2 - x1, x0 - x2, x1 - x0];
+        let inv = 1.0 / ((x1 - x0) * (y2 - y0) - (y1 - y0) * (x2 - x0));
+        let mut e = [0.0; 3];
+        for a in 0..3 {
+            let (ux, uy) = (w[a][l][2], w[a][l][3]);
+            e[0] += b[a] * ux;
+            e[1] += c[a] * uy;
+            e[2] += c[a] * ux + b[a] * uy;
+        }
+        let e = [e[0] * inv, e[1] * inv, e[2] * inv];
+        let s = [
+            d[0][0] * e[0] + d[0][1] * e[1] + d[0][2] * e[2],
+            d[1][0] * e[0] + d[1][1] * e[1] + d[1][2] * e[2],
+            d[2][0] * e[0] + d[2][1] * e[1] + d[2][2] * e[2],
+        ];
+        for a in 0..3 {
+            out[2 * a * L + l] = 0.5 * (b[a] * s[0] + c[a] * s[2]);
+            out[(2 * a + 1) * L + l] = 0.5 * (c[a] * s[1] + b[a] * s[2]);
+        }
+    }
+}
+
+/// K_e u_e of L bilinear quadrangles, 2×2 Gauss (layout as [`t3_batch`]). With the edge
+/// differences, 4 ∂v/∂ξ(η) = (v₁ − v₀)(1 − η) + (v₂ − v₃)(1 + η) and
+/// 4 ∂v/∂η(ξ) = (v₃ − v₀)(1 − ξ) + (v₂ − v₁)(1 + ξ) for v = x and v = u give J and ∇_ξ u at each
+/// Gauss point; ∇u = ∇_ξ u J⁻¹, σ = D ε, and det J B_aᵀσ = N_a,ξ P + N_a,η Q with
+/// P = (y_η σ_xx − x_η σ_xy, y_η σ_xy − x_η σ_yy), Q = (x_ξ σ_xy − y_ξ σ_xx, x_ξ σ_yy − y_ξ σ_xy)
+/// (the cofactors of J: no inverse in the force). With N_a,ξ = ¼ξ_a(1 + ηη_a),
+/// N_a,η = ¼η_a(1 + ξξ_a) the Gauss sums collapse to f_a = ¼[ξ_a(ΣP + η_a ΣηP) + η_a(ΣQ + ξ_a ΣξQ)]
+/// (the same structure as `model::mapped::element_forces`).
+#[inline(always)]
+fn q4_batch(w: &Batch<4>, d: &[[f64; 3]; 3], out: &mut [f64]) {
+    let out: &mut [f64; 8 * L] = out.try_into().expect("a Q4 batch is 8L values");
+    let g = 1.0 / 3f64.sqrt();
+    // one element per lane, in a loop the optimiser vectorises (straight-line code, no calls)
+    for l in 0..L {
+        // [k] = x, y, u_x, u_y: 4 ∂/∂ξ at η = −g, +g and 4 ∂/∂η at ξ = −g, +g
+        let dv = [
+            q4_derivatives(w, 0, l, g),
+            q4_derivatives(w, 1, l, g),
+            q4_derivatives(w, 2, l, g),
+            q4_derivatives(w, 3, l, g),
+        ];
+        // Gauss points (ξ, η) = g(−1, −1), g(1, −1), g(1, 1), g(−1, 1): (η index, ξ index) into
+        // the derivative pairs; 1/det J at all four from one division (16 det J = 4h² for an
+        // element of size h: the product of four stays within f64 for 1e-18 m < h < 1e18 m)
+        let gp = [(0, 0), (0, 1), (1, 1), (1, 0)];
+        let det = [
+            q4_det(&dv, gp[0]),
+            q4_det(&dv, gp[1]),
+            q4_det(&dv, gp[2]),
+            q4_det(&dv, gp[3]),
+        ];
+        let (d01, d23) = (det[0] * det[1], det[2] * det[3]);
+        let r = 1.0 / (d01 * d23);
+        let (r01, r23) = (d23 * r, d01 * r);
+        let inv = [det[1] * r01, det[0] * r01, det[3] * r23, det[2] * r23];
+        let (p0, q0) = gauss_point(&dv, gp[0], inv[0], d);
+        let (p1, q1) = gauss_point(&dv, gp[1], inv[1], d);
+        let (p2, q2) = gauss_point(&dv, gp[2], inv[2], d);
+        let (p3, q3) = gauss_point(&dv, gp[3], inv[3], d);
+        // P and Q are 4× the true ones (the derivatives are 4× too): f_a carries 1/16
+        for c in 0..2 {
+            let (p_sum, p_eta) = (
+                (p0[c] + p1[c]) + (p2[c] + p3[c]),
+                (p2[c] + p3[c]) - (p0[c] + p1[c]),
+            );
+            let (q_sum, q_xi) = (
+                (q0[c] + q3[c]) + (q1[c] + q2[c]),
+                (q1[c] + q2[c]) - (q0[c] + q3[c]),
+            );
+            let (pm, pp) = (p_sum - g * p_eta, p_sum + g * p_eta);
+            let (qm, qp) = (q_sum - g * q_xi, q_sum + g * q_xi);
+            out[c * L + l] = -0.0625 * (pm + qm);
+            out[(2 + c) * L + l] = 0.0625 * (pm - qp);
+            out[(4 + c) * L + l] = 0.0625 * (pp + qp);
+            out[(6 + c) * L + l] = 0.0625 * (qm - pp);
+        }
+    }
+}
+
+/// 4 ∂v/∂ξ at η = −g, +g and 4 ∂v/∂η at ξ = −g, +g of corner value `k` (see [`Batch`]) in lane
+/// `l`.
+#[inline(always)]
+fn q4_derivatives(w: &Batch<4>, k: usize, l: usize, g: f64) -> [[f64; 2]; 2] {
+    let (v0, v1, v2, v3) = (w[0][l][k], w[1][l][k], w[2][l][k], w[3][l][k]);
+    let (a, b, c, e) = (v1 - v0, v2 - v3, v3 - v0, v2 - v1);
+    let (sx, dx, se, de) = (a + b, g * (b - a), c + e, g * (e - c));
+    [[sx - dx, sx + dx], [se - de, se + de]]
+}
+
+/// 16 det J = 4x_ξ 4y_η − 4x_η 4y_ξ at Gauss point (η index, ξ index) of [`q4_batch`].
+#[inline(always)]
+fn q4_det(dv: &[[[f64; 2]; 2]; 4], (ie, ix): (usize, usize)) -> f64 {
+    dv[0][0][ie] * dv[1][1][ix] - dv[0][1][ix] * dv[1][0][ie]
+}
+
+/// (4P, 4Q) of [`q4_batch`] at the Gauss point with η index `ie` and ξ index `ix` (0: −g, 1: +g),
+/// from the derivatives `dv` of [`q4_derivatives`] and `inv` = 1/(16 det J) there.
+#[inline(always)]
+fn gauss_point(
+    dv: &[[[f64; 2]; 2]; 4],
+    (ie, ix): (usize, usize),
+    inv: f64,
+    d: &[[f64; 3]; 3],
+) -> ([f64; 2], [f64; 2]) {
+    let (xx, yx, uxx, uyx) = (dv[0][0][ie], dv[1][0][ie], dv[2][0][ie], dv[3][0][ie]);
+    let (xe, ye, uxe, uye) = (dv[0][1][ix], dv[1][1][ix], dv[2][1][ix], dv[3][1][ix]);
+    let e0 = (uxx * ye - uxe * yx) * inv;
+    let e1 = (uye * xx - uyx * xe) * inv;
+    let e2 = (uxe * xx - uxx * xe + uyx * ye - uye * yx) * inv;
+    let s0 = d[0][0] * e0 + d[0][1] * e1 + d[0][2] * e2;
+    let s1 = d[1][0] * e0 + d[1][1] * e1 + d[1][2] * e2;
+    let s2 = d[2][0] * e0 + d[2][1] * e1 + d[2][2] * e2;
+    (
+        [ye * s0 - xe * s2, ye * s2 - xe * s1],
+        [xx * s2 - yx * s0, xx * s1 - yx * s2],
+    )
 }
 
 /// The element's length of the stable step [m]: T3 2A/ℓ_max, Q4 A/ℓ_max (see
@@ -311,6 +651,68 @@ mod tests {
     use crate::law::elastic::PlaneStrain;
     use crate::mesh::structured::{Grid, GridSpec};
     use std::collections::BTreeMap;
+
+    /// The reference the kernel is checked against: the constant-strain triangle K_e = A t Bᵀ D B (t = 1 m) [N/m per m], DOF order x₀, y₀, x₁, y₁,
+    /// x₂, y₂; Err(2A) [m²] for a clockwise or degenerate triangle.
+    fn cst_stiffness(c: &[Vector2<f64>; 3], d: &[[f64; 3]; 3]) -> Result<[[f64; 6]; 6], f64> {
+        let two_a = (c[1] - c[0]).perp(&(c[2] - c[0]));
+        if two_a <= 0.0 || !two_a.is_finite() {
+            return Err(two_a);
+        }
+        let mut b = [[0.0; 6]; 3];
+        for i in 0..3 {
+            let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+            // ∂N_i/∂x = b_i/(2A), ∂N_i/∂y = c_i/(2A)
+            let (bi, ci) = ((c[j].y - c[k].y) / two_a, (c[k].x - c[j].x) / two_a);
+            b[0][2 * i] = bi;
+            b[1][2 * i + 1] = ci;
+            b[2][2 * i] = ci;
+            b[2][2 * i + 1] = bi;
+        }
+        let area = 0.5 * two_a;
+        let mut k = [[0.0; 6]; 6];
+        for (i, ki) in k.iter_mut().enumerate() {
+            for (j, kij) in ki.iter_mut().enumerate() {
+                let mut sum = 0.0;
+                for p in 0..3 {
+                    for q in 0..3 {
+                        sum += b[p][i] * d[p][q] * b[q][j];
+                    }
+                }
+                *kij = area * sum;
+            }
+        }
+        Ok(k)
+    }
+
+    /// The old formulation, as reference: f_a = −Σ_e K_e[a-rows] u_e in mesh element order, with
+    /// K_e from `cst_stiffness` and `bulk::stiffness`.
+    fn reference_forces(mesh: &UnstructuredMesh, d: &[[f64; 3]; 3], u: &[Vector2<f64>]) -> Vec<Vector2<f64>> {
+        let mut f = vec![Vector2::zeros(); u.len()];
+        for el in &mesh.elements {
+            let c: Vec<Vector2<f64>> = el.nodes.iter().map(|&a| mesh.positions[a]).collect();
+            let k: Vec<Vec<f64>> = match el.kind {
+                ElementKind::T3 => cst_stiffness(&[c[0], c[1], c[2]], d)
+                    .unwrap()
+                    .iter()
+                    .map(|r| r.to_vec())
+                    .collect(),
+                ElementKind::Q4 => bulk::stiffness(&[c[0], c[1], c[2], c[3]], d)
+                    .unwrap()
+                    .iter()
+                    .map(|r| r.to_vec())
+                    .collect(),
+            };
+            for (i, &a) in el.nodes.iter().enumerate() {
+                for (j, &b) in el.nodes.iter().enumerate() {
+                    for r in 0..2 {
+                        f[a][r] -= k[2 * i + r][2 * j] * u[b].x + k[2 * i + r][2 * j + 1] * u[b].y;
+                    }
+                }
+            }
+        }
+        f
+    }
 
     /// The paper's material (E = 70 MPa, ν = 0.35, ρ = 1230 kg/m³).
     fn material() -> PlaneStrain {
@@ -515,21 +917,21 @@ mod tests {
         }
     }
 
-    /// The forces are the same to the bit on 1 and 2 threads (each node's sum has a fixed order),
-    /// on a mixed mesh large enough to be split into several tasks.
-    #[test]
-    fn forces_do_not_depend_on_the_thread_count() {
-        let (nx, ny) = (60, 40);
-        let positions: Vec<Vector2<f64>> = (0..=ny)
-            .flat_map(|j| {
-                (0..=nx).map(move |i| {
-                    // a distorted grid: no two elements alike
-                    let (x, y) = (i as f64 * 0.01, j as f64 * 0.01);
-                    Vector2::new(x + 0.002 * (7.0 * y).sin(), y + 0.002 * (5.0 * x).cos())
-                })
-            })
-            .collect();
-        let node = |i: usize, j: usize| j * (nx + 1) + i;
+    /// A distorted nx × ny grid on [0, 0.01 nx] × [0, 0.01 ny] m, no two elements alike: every
+    /// third square split into two T3, the others Q4. `scramble` renumbers the nodes by a
+    /// multiplicative permutation (neighbours far apart in the numbering).
+    fn distorted_mixed(nx: usize, ny: usize, scramble: bool) -> UnstructuredMesh {
+        let nn = (nx + 1) * (ny + 1);
+        let perm = |n: usize| if scramble { (n * 7919) % nn } else { n };
+        let mut positions = vec![Vector2::zeros(); nn];
+        for j in 0..=ny {
+            for i in 0..=nx {
+                let (x, y) = (i as f64 * 0.01, j as f64 * 0.01);
+                positions[perm(j * (nx + 1) + i)] =
+                    Vector2::new(x + 0.002 * (7.0 * y).sin(), y + 0.002 * (5.0 * x).cos());
+            }
+        }
+        let node = |i: usize, j: usize| perm(j * (nx + 1) + i);
         let mut elements = Vec::new();
         for j in 0..ny {
             for i in 0..nx {
@@ -542,13 +944,25 @@ mod tests {
                 }
             }
         }
-        let mesh = mesh_of(positions, elements);
+        mesh_of(positions, elements)
+    }
+
+    /// A displacement field without symmetry [m].
+    fn wobble(n: usize) -> Vec<Vector2<f64>> {
+        (0..n)
+            .map(|n| Vector2::new((n as f64 * 0.37).sin(), (n as f64 * 0.11).cos()) * 1e-3)
+            .collect()
+    }
+
+    /// The forces are the same to the bit on 1 and 2 threads (each node's sum has a fixed order),
+    /// on a mixed mesh large enough to be split into several tiles.
+    #[test]
+    fn forces_do_not_depend_on_the_thread_count() {
+        let mesh = distorted_mixed(60, 40, false);
         let mat = material();
         let bulk = UnstructuredBulk::new(&mesh, &mat.d_matrix(), mat.density).unwrap();
-        assert!(bulk.num_nodes() > 2 * CHUNK);
-        let u: Vec<Vector2<f64>> = (0..bulk.num_nodes())
-            .map(|n| Vector2::new((n as f64 * 0.37).sin(), (n as f64 * 0.11).cos()) * 1e-3)
-            .collect();
+        assert!(bulk.tiles.len() > 2, "{} tiles", bulk.tiles.len());
+        let u = wobble(bulk.num_nodes());
         let run = |threads: usize| {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
@@ -559,6 +973,51 @@ mod tests {
         let (one, two) = (run(1), run(2));
         assert!(one.iter().any(|f| f.norm() > 0.0));
         for (n, (a, b)) in one.iter().zip(&two).enumerate() {
+            assert_eq!(
+                (a.x.to_bits(), a.y.to_bits()),
+                (b.x.to_bits(), b.y.to_bits()),
+                "node {n}"
+            );
+        }
+    }
+
+    /// The element forces computed from the positions (ε = B u_e, σ = D ε, Bᵀσ) are those of the
+    /// stored-K_e formulation to round-off: 1e-12 of the largest force. The two sum the same
+    /// terms in another order, each force being ≲ 50 products of size |K| |u|; the distorted
+    /// elements make every K_e different, and the scrambled numbering gives tiles with elements
+    /// far apart.
+    #[test]
+    fn forces_match_the_stiffness_matrices() {
+        let mat = material();
+        let d = mat.d_matrix();
+        for scramble in [false, true] {
+            let mesh = distorted_mixed(60, 40, scramble);
+            let bulk = UnstructuredBulk::new(&mesh, &d, mat.density).unwrap();
+            let u = wobble(bulk.num_nodes());
+            let f = forces(&bulk, &u);
+            let g = reference_forces(&mesh, &d, &u);
+            let scale = g.iter().map(|v| v.norm()).fold(0.0, f64::max);
+            for (n, (a, b)) in f.iter().zip(&g).enumerate() {
+                assert!(
+                    (a - b).norm() <= 1e-12 * scale,
+                    "scramble {scramble}, node {n}: {a} vs {b}"
+                );
+            }
+        }
+    }
+
+    /// The AVX-512 element passes give the bits of the portable ones (the output must not depend
+    /// on the CPU it runs on); on a CPU without AVX-512 both runs take the portable path.
+    #[test]
+    fn vector_paths_agree_bit_for_bit() {
+        let mesh = distorted_mixed(30, 20, false);
+        let mat = material();
+        let mut bulk = UnstructuredBulk::new(&mesh, &mat.d_matrix(), mat.density).unwrap();
+        let u = wobble(bulk.num_nodes());
+        let dispatched = forces(&bulk, &u);
+        bulk.avx512 = false;
+        let portable = forces(&bulk, &u);
+        for (n, (a, b)) in portable.iter().zip(&dispatched).enumerate() {
             assert_eq!(
                 (a.x.to_bits(), a.y.to_bits()),
                 (b.x.to_bits(), b.y.to_bits()),
