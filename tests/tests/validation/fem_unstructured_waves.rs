@@ -6,19 +6,19 @@
 //! times at which the probe displacement reaches half the imposed value. The probes are two mesh
 //! nodes on the mid-line, at x = 0.05 m and 0.15 m (embedded points of the `.geo`).
 
+use fem::WaveSpeeds;
 use fem::gmsh::UnstructuredMesh;
 use fem::law::elastic::PlaneStrain;
 use fem::nalgebra::Vector2;
 use fem::scene::Ramp;
 use fem::solver::unstructured::{Axis, DriverOptions, GroupBc, Prescribed, UnstructuredDriver};
-use fem::{ProbeRecord, WaveSpeeds};
 use validation::repo_root;
 
-/// Arrival-time speeds within 1 % of c_d, c_s: the tolerance of the structured test, not tuned.
-/// The time at which a smooth ramp's displacement reaches half its final value is insensitive to
-/// the mesh's dispersion when the ramp spans many elements (here 15 elements for P, 14.5 for S):
-/// dispersion spreads the front about that time, it does not move it.
-const TOL_SPEED_REL: f64 = 0.01;
+// Arrival-time speeds within 1 % of c_d, c_s (`check`): the tolerance of the structured test, not
+// tuned. The time at which a smooth ramp's displacement reaches half its final value is
+// insensitive to the mesh's dispersion when the ramp spans many elements (here 15 elements for P,
+// 14.5 for S): dispersion spreads the front about that time, it does not move it.
+use crate::fem_wave_speeds::{check, crossing};
 
 /// Imposed displacement [m].
 const AMPLITUDE: f64 = 1e-5;
@@ -26,23 +26,6 @@ const AMPLITUDE: f64 = 1e-5;
 /// The paper's material (E = 70 MPa, ν = 0.35, ρ = 1230 kg/m³), that of the structured test.
 fn material() -> PlaneStrain {
     PlaneStrain::new(70e6, 0.35, 1230.0)
-}
-
-/// First time the probe's displacement component reaches `level`, linearly interpolated.
-fn crossing(records: &[ProbeRecord], probe: usize, level: f64, component: usize) -> f64 {
-    let rows: Vec<&ProbeRecord> = records.iter().filter(|p| p.probe == probe).collect();
-    for w in rows.windows(2) {
-        let (a, b) = (w[0], w[1]);
-        let (ua, ub) = if component == 0 {
-            (a.ux, b.ux)
-        } else {
-            (a.uy, b.uy)
-        };
-        if ua < level && ub >= level {
-            return a.t + (level - ua) / (ub - ua) * (b.t - a.t);
-        }
-    }
-    panic!("probe {probe} never reached {level}");
 }
 
 /// Runs the plate with the ramp on `axis` of the left side (rise time `ramp_end` [s]), rollers on
@@ -91,15 +74,6 @@ fn measured_speed(axis: Axis, ramp_end: f64, duration: f64) -> (f64, WaveSpeeds)
         driver.dt()
     );
     ((x2 - x1) / (t2 - t1), mat.wave_speeds())
-}
-
-/// Asserts a measured arrival speed against the expected wave speed.
-fn check(label: &str, measured: f64, expected: f64) {
-    let err = (measured - expected).abs() / expected;
-    println!(
-        "{label}: measured {measured:.2} m/s, expected {expected:.2} m/s, rel. error {err:.2e} (tol {TOL_SPEED_REL})"
-    );
-    assert!(err <= TOL_SPEED_REL);
 }
 
 /// P wave: u_x ramp over 5e-5 s (15 mm of travel at c_d); the front reaches the second probe at

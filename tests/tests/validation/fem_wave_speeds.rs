@@ -13,8 +13,8 @@ fn table(text: &str) -> toml::Value {
 }
 
 /// First time the probe's displacement component reaches `level`, linearly interpolated.
-fn crossing(out: &fem::RunOutput, probe: usize, level: f64, component: usize) -> f64 {
-    let rows: Vec<&fem::ProbeRecord> = out.probes.iter().filter(|p| p.probe == probe).collect();
+pub(crate) fn crossing(records: &[fem::ProbeRecord], probe: usize, level: f64, component: usize) -> f64 {
+    let rows: Vec<&fem::ProbeRecord> = records.iter().filter(|p| p.probe == probe).collect();
     for w in rows.windows(2) {
         let (a, b) = (w[0], w[1]);
         let (ua, ub) = if component == 0 {
@@ -41,15 +41,15 @@ fn measured_speed(boundary: &str, duration: f64, component: usize) -> (f64, fem:
     let out = fem::run(&scene).unwrap();
     let amplitude = 1e-5;
     let (t1, t2) = (
-        crossing(&out, 0, 0.5 * amplitude, component),
-        crossing(&out, 1, 0.5 * amplitude, component),
+        crossing(&out.probes, 0, 0.5 * amplitude, component),
+        crossing(&out.probes, 1, 0.5 * amplitude, component),
     );
     let (x1, x2) = (scene.fem.probes[0][0], scene.fem.probes[1][0]);
     ((x2 - x1) / (t2 - t1), scene.wave_speeds())
 }
 
 /// Asserts a measured arrival speed against the expected wave speed (claim 2).
-fn check(label: &str, measured: f64, expected: f64) {
+pub(crate) fn check(label: &str, measured: f64, expected: f64) {
     let err = (measured - expected).abs() / expected;
     println!(
         "{label}: measured {measured:.2} m/s, expected {expected:.2} m/s, rel. error {err:.2e} (tol {TOL_SPEED_REL})"
