@@ -282,7 +282,10 @@ impl UnstructuredBulk {
                     } else {
                         slot_t3[i as usize]
                     };
-                    slots.push((base + 2 * L * la as usize) as u16);
+                    let slot = base + 2 * L * la as usize;
+                    // the gather masks its indices instead of checking them: they must be in range
+                    debug_assert!(slot + L < SCRATCH, "slot {slot} outside the tile buffer");
+                    slots.push(slot as u16);
                 }
             }
         }
