@@ -975,7 +975,12 @@ mod tests {
         };
         let (one, two) = (run(1), run(2));
         assert!(one.iter().any(|f| f.norm() > 0.0));
-        for (n, (a, b)) in one.iter().zip(&two).enumerate() {
+        assert_same_bits(&one, &two);
+    }
+
+    /// Every component of `a` has the bits of the same component of `b`.
+    fn assert_same_bits(a: &[Vector2<f64>], b: &[Vector2<f64>]) {
+        for (n, (a, b)) in a.iter().zip(b).enumerate() {
             assert_eq!(
                 (a.x.to_bits(), a.y.to_bits()),
                 (b.x.to_bits(), b.y.to_bits()),
@@ -1020,13 +1025,7 @@ mod tests {
         let dispatched = forces(&bulk, &u);
         bulk.avx512 = false;
         let portable = forces(&bulk, &u);
-        for (n, (a, b)) in portable.iter().zip(&dispatched).enumerate() {
-            assert_eq!(
-                (a.x.to_bits(), a.y.to_bits()),
-                (b.x.to_bits(), b.y.to_bits()),
-                "node {n}"
-            );
-        }
+        assert_same_bits(&portable, &dispatched);
     }
 
     /// The CST against a hand value: the right triangle (0,0), (1,0), (0,1) has B with rows
