@@ -455,32 +455,59 @@ type Batch<const N: usize> = [[[f64; 4]; L]; N];
 #[inline(always)]
 fn element_forces(k: &UnstructuredBulk, q: &[u32], tr: &[u32], u: &[[f64; 2]], buf: &mut [f64; SCRATCH]) {
     let (bq, bt) = buf.split_at_mut(buffer_len(q.len(), 0));
-    let mut stage = [[[[0.0; 4]; L]; 4]; 2];
+    batches::<4, Q4Pass>(&k.q4, &k.pos, &k.d, u, q, bq);
+    batches::<3, T3Pass>(&k.t3, &k.pos, &k.d, u, tr, bt);
+}
+
+/// The force computation of one batch of an element kind with N corners. A trait rather than a
+/// closure: closures are not inlined into the AVX-512 pass, which stops its vectorisation.
+trait BatchPass<const N: usize> {
+    /// Forces of the batch `w` into `out` (2NL values).
+    fn forces(w: &Batch<N>, d: &[[f64; 3]; 3], out: &mut [f64]);
+}
+
+/// Q4 batches ([`q4_batch`]).
+struct Q4Pass;
+/// T3 batches ([`t3_batch`]).
+struct T3Pass;
+
+impl BatchPass<4> for Q4Pass {
+    #[inline(always)]
+    fn forces(w: &Batch<4>, d: &[[f64; 3]; 3], out: &mut [f64]) {
+        q4_batch(w, d, out)
+    }
+}
+
+impl BatchPass<3> for T3Pass {
+    #[inline(always)]
+    fn forces(w: &Batch<3>, d: &[[f64; 3]; 3], out: &mut [f64]) {
+        t3_batch(w, d, out)
+    }
+}
+
+/// One kind's element pass: the elements `list` in batches of L, each batch's forces (2N values
+/// per lane) into the next 2NL values of `out`, the next batch's corners gathered first.
+#[inline(always)]
+fn batches<const N: usize, P: BatchPass<N>>(
+    conn: &[[u32; N]],
+    pos: &[[f64; 2]],
+    d: &[[f64; 3]; 3],
+    u: &[[f64; 2]],
+    list: &[u32],
+    out: &mut [f64],
+) {
+    let mut stage = [[[[0.0; 4]; L]; N]; 2];
     let (s0, s1) = stage.split_at_mut(1);
     let (mut cur, mut next) = (&mut s0[0], &mut s1[0]);
-    let mut chunks = q.chunks(L);
+    let mut chunks = list.chunks(L);
     if let Some(c) = chunks.next() {
-        gather(&k.q4, &k.pos, u, c, cur);
+        gather(conn, pos, u, c, cur);
     }
-    for out in bq.chunks_exact_mut(8 * L) {
+    for out in out.chunks_exact_mut(2 * N * L) {
         if let Some(c) = chunks.next() {
-            gather(&k.q4, &k.pos, u, c, next);
+            gather(conn, pos, u, c, next);
         }
-        q4_batch(cur, &k.d, out);
-        std::mem::swap(&mut cur, &mut next);
-    }
-    let mut stage = [[[[0.0; 4]; L]; 3]; 2];
-    let (s0, s1) = stage.split_at_mut(1);
-    let (mut cur, mut next) = (&mut s0[0], &mut s1[0]);
-    let mut chunks = tr.chunks(L);
-    if let Some(c) = chunks.next() {
-        gather(&k.t3, &k.pos, u, c, cur);
-    }
-    for out in bt.chunks_exact_mut(6 * L) {
-        if let Some(c) = chunks.next() {
-            gather(&k.t3, &k.pos, u, c, next);
-        }
-        t3_batch(cur, &k.d, out);
+        P::forces(cur, d, out);
         std::mem::swap(&mut cur, &mut next);
     }
 }
