@@ -284,26 +284,38 @@ fn an_interior_crack_tip_is_not_twinned() {
 
 // ---- Broken inputs ------------------------------------------------------------------------
 
-/// A 2 × 2 grid of unit Q4 on [0, 2]² (nodes 1..9, row by row), surface 1 in group 1 "bulk",
-/// curve 1 in group 2 "interface" with the given lines (tag, a, b).
-fn grid_msh(z5: f64, lines: &[(u64, u64, u64)], extra_block: &str) -> String {
-    let mut s = String::from(
+/// An n × n grid of unit Q4 on [0, n]² (nodes 1..(n+1)², row by row: node t at ((t−1) mod
+/// (n+1), (t−1) div (n+1)); element tags 1..n² row by row), surface 1 in group 1 "bulk", curve 1
+/// in group 2 "interface" with the given lines (tag, a, b). Node 5 is lifted to z = `z5`;
+/// `extra_block` is a further element block (its header line first).
+fn grid_msh(n: usize, z5: f64, lines: &[(u64, u64, u64)], extra_block: &str) -> String {
+    let w = n + 1;
+    let mut s = format!(
         "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n2\n1 2 \"interface\"\n2 1 \"bulk\"\n\
-         $EndPhysicalNames\n$Entities\n0 1 1 0\n1 0 0 0 2 2 0 1 2 0\n1 0 0 0 2 2 0 1 1 0\n$EndEntities\n",
+         $EndPhysicalNames\n$Entities\n0 1 1 0\n1 0 0 0 {n} {n} 0 1 2 0\n1 0 0 0 {n} {n} 0 1 1 0\n$EndEntities\n"
     );
-    s += "$Nodes\n1 9 1 9\n2 1 0 9\n";
-    for t in 1..=9 {
+    s += &format!("$Nodes\n1 {0} 1 {0}\n2 1 0 {0}\n", w * w);
+    for t in 1..=w * w {
         s += &format!("{t}\n");
     }
-    for t in 0..9 {
+    for t in 0..w * w {
         let z = if t == 4 { z5 } else { 0.0 };
-        s += &format!("{} {} {z}\n", t % 3, t / 3);
+        s += &format!("{} {} {z}\n", t % w, t / w);
     }
     s += "$EndNodes\n";
     let blocks = 2 + usize::from(!extra_block.is_empty());
     let extra_count = extra_block.lines().count().saturating_sub(1);
-    s += &format!("$Elements\n{blocks} {} 1 100\n", 4 + lines.len() + extra_count);
-    s += "2 1 3 4\n1 1 2 5 4\n2 2 3 6 5\n3 4 5 8 7\n4 5 6 9 8\n";
+    s += &format!(
+        "$Elements\n{blocks} {} 1 100\n2 1 3 {}\n",
+        n * n + lines.len() + extra_count,
+        n * n
+    );
+    for r in 0..n {
+        for c in 0..n {
+            let a = w * r + c + 1;
+            s += &format!("{} {a} {} {} {}\n", n * r + c + 1, a + 1, a + w + 1, a + w);
+        }
+    }
     s += &format!("1 1 1 {}\n", lines.len());
     for (t, a, b) in lines {
         s += &format!("{t} {a} {b}\n");
@@ -321,7 +333,7 @@ const MIDDLE: [(u64, u64, u64); 2] = [(10, 4, 5), (11, 5, 6)];
 
 #[test]
 fn the_small_grid_reads_and_its_middle_line_is_an_interface() {
-    let mesh = parse(&grid_msh(0.0, &MIDDLE, "")).unwrap();
+    let mesh = parse(&grid_msh(2, 0.0, &MIDDLE, "")).unwrap();
     assert_eq!(mesh.elements.len(), 4);
     let chains = interface_chains(&mesh, "interface").unwrap();
     assert_eq!(chains.len(), 1);
@@ -337,7 +349,7 @@ fn the_small_grid_reads_and_its_middle_line_is_an_interface() {
 
 #[test]
 fn a_missing_group_is_named() {
-    let mesh = parse(&grid_msh(0.0, &MIDDLE, "")).unwrap();
+    let mesh = parse(&grid_msh(2, 0.0, &MIDDLE, "")).unwrap();
     let err = interface_chains(&mesh, "crack").unwrap_err();
     assert_eq!(
         err,
@@ -354,7 +366,7 @@ fn a_missing_group_is_named() {
 #[test]
 fn a_clockwise_element_is_reoriented_and_counted() {
     // Element 3 written clockwise (4 7 8 5 instead of 4 5 8 7).
-    let s = grid_msh(0.0, &MIDDLE, "").replace("3 4 5 8 7\n", "3 4 7 8 5\n");
+    let s = grid_msh(2, 0.0, &MIDDLE, "").replace("3 4 5 8 7\n", "3 4 7 8 5\n");
     let mesh = parse(&s).unwrap();
     assert_eq!(mesh.reoriented, 1);
     assert!(
@@ -400,7 +412,7 @@ fn first_triangle(t: &str) -> (String, String, String, String, String) {
 fn a_degenerate_element_is_named() {
     // Element 2 with node 3 moved onto node 2: 2 3 6 5 → 2 2 6 5 (a zero-length edge, a corner
     // of zero area).
-    let s = grid_msh(0.0, &MIDDLE, "").replace("2 2 3 6 5\n", "2 2 2 6 5\n");
+    let s = grid_msh(2, 0.0, &MIDDLE, "").replace("2 2 3 6 5\n", "2 2 2 6 5\n");
     let err = parse(&s).unwrap_err();
     assert!(matches!(err, MeshError::Degenerate { element: 2, .. }), "{err}");
     assert!(err.to_string().contains("element 2 "));
@@ -416,7 +428,7 @@ fn a_degenerate_element_is_named() {
 
 #[test]
 fn a_branching_interface_names_the_node() {
-    let mesh = parse(&grid_msh(0.0, &[(10, 4, 5), (11, 5, 6), (12, 5, 8)], "")).unwrap();
+    let mesh = parse(&grid_msh(2, 0.0, &[(10, 4, 5), (11, 5, 6), (12, 5, 8)], "")).unwrap();
     let err = interface_chains(&mesh, "interface").unwrap_err();
     assert_eq!(
         err,
@@ -430,7 +442,7 @@ fn a_branching_interface_names_the_node() {
 
 #[test]
 fn a_line_that_is_not_an_element_edge_is_named() {
-    let mesh = parse(&grid_msh(0.0, &[(10, 4, 5), (11, 5, 9)], "")).unwrap();
+    let mesh = parse(&grid_msh(2, 0.0, &[(10, 4, 5), (11, 5, 9)], "")).unwrap();
     let err = interface_chains(&mesh, "interface").unwrap_err();
     assert_eq!(
         err,
@@ -445,7 +457,7 @@ fn a_line_that_is_not_an_element_edge_is_named() {
 
 #[test]
 fn a_boundary_line_is_not_an_interface() {
-    let mesh = parse(&grid_msh(0.0, &[(10, 1, 2)], "")).unwrap();
+    let mesh = parse(&grid_msh(2, 0.0, &[(10, 1, 2)], "")).unwrap();
     let err = interface_chains(&mesh, "interface").unwrap_err();
     assert_eq!(
         err,
@@ -460,7 +472,7 @@ fn a_boundary_line_is_not_an_interface() {
 #[test]
 fn a_second_order_element_is_refused() {
     // A 6-node triangle (type 9) in surface 1.
-    let s = grid_msh(0.0, &MIDDLE, "2 1 9 1\n50 1 2 5 1 2 5\n");
+    let s = grid_msh(2, 0.0, &MIDDLE, "2 1 9 1\n50 1 2 5 1 2 5\n");
     let err = parse(&s).unwrap_err();
     assert!(
         matches!(
@@ -478,17 +490,17 @@ fn a_second_order_element_is_refused() {
 
 #[test]
 fn a_non_planar_node_is_named() {
-    let err = parse(&grid_msh(0.1, &MIDDLE, "")).unwrap_err();
+    let err = parse(&grid_msh(2, 0.1, &MIDDLE, "")).unwrap_err();
     assert!(matches!(err, MeshError::Not2d { node: 5, .. }), "{err}");
     assert!(err.to_string().starts_with("the mesh is not 2D: node 5"));
     // Far below the tolerance (1e-10 × 2 m) it is accepted: round-off of a planar mesh.
-    parse(&grid_msh(1e-14, &MIDDLE, "")).unwrap();
+    parse(&grid_msh(2, 1e-14, &MIDDLE, "")).unwrap();
 }
 
 #[test]
 fn unused_nodes_are_a_warning() {
     // A tenth node, at (3, 3) m, that no element uses.
-    let s = grid_msh(0.0, &MIDDLE, "")
+    let s = grid_msh(2, 0.0, &MIDDLE, "")
         .replace("$Nodes\n1 9 1 9\n2 1 0 9\n", "$Nodes\n1 10 1 10\n2 1 0 10\n")
         .replace("9\n0 0 0\n", "9\n10\n0 0 0\n")
         .replace("2 2 0\n$EndNodes", "2 2 0\n3 3 0\n$EndNodes");
@@ -510,38 +522,16 @@ fn garbage_is_a_parse_error_not_a_panic() {
     assert!(matches!(parse(&t[..t.len() / 2]), Err(MeshError::Parse(_))));
 }
 
-/// A 3 × 3 grid of unit Q4 on [0, 3]² (nodes 1..16, row by row, node t at ((t−1) mod 4,
-/// (t−1) div 4)), with the given lines in group "interface".
-fn grid3_msh(lines: &[(u64, u64, u64)]) -> String {
-    let mut s = String::from(
-        "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n2\n1 2 \"interface\"\n2 1 \"bulk\"\n\
-         $EndPhysicalNames\n$Entities\n0 1 1 0\n1 0 0 0 3 3 0 1 2 0\n1 0 0 0 3 3 0 1 1 0\n$EndEntities\n",
-    );
-    s += "$Nodes\n1 16 1 16\n2 1 0 16\n";
-    for t in 1..=16 {
-        s += &format!("{t}\n");
-    }
-    for t in 0..16 {
-        s += &format!("{} {} 0\n", t % 4, t / 4);
-    }
-    s += &format!("$EndNodes\n$Elements\n2 {} 1 100\n2 1 3 9\n", 9 + lines.len());
-    for r in 0..3 {
-        for c in 0..3 {
-            let a = 4 * r + c + 1;
-            s += &format!("{} {a} {} {} {}\n", 3 * r + c + 1, a + 1, a + 5, a + 4);
-        }
-    }
-    s += &format!("1 1 1 {}\n", lines.len());
-    for (t, a, b) in lines {
-        s += &format!("{t} {a} {b}\n");
-    }
-    s + "$EndElements\n"
-}
-
 #[test]
 fn a_closed_chain_twins_every_node_and_frees_what_it_encloses() {
     // The square around the centre element (tag 5: nodes 6 7 11 10), counter-clockwise.
-    let mesh = parse(&grid3_msh(&[(20, 6, 7), (21, 7, 11), (22, 11, 10), (23, 10, 6)])).unwrap();
+    let mesh = parse(&grid_msh(
+        3,
+        0.0,
+        &[(20, 6, 7), (21, 7, 11), (22, 11, 10), (23, 10, 6)],
+        "",
+    ))
+    .unwrap();
     let chains = interface_chains(&mesh, "interface").unwrap();
     assert_eq!(chains.len(), 1);
     let c = &chains[0];
@@ -567,7 +557,7 @@ fn a_closed_chain_twins_every_node_and_frees_what_it_encloses() {
 #[test]
 fn disjoint_pieces_are_separate_chains_with_their_own_tips() {
     // Two edge cracks: 5-6 from the left side, 12-11 from the right side; each ends inside.
-    let mesh = parse(&grid3_msh(&[(30, 5, 6), (31, 12, 11)])).unwrap();
+    let mesh = parse(&grid_msh(3, 0.0, &[(30, 5, 6), (31, 12, 11)], "")).unwrap();
     let chains = interface_chains(&mesh, "interface").unwrap();
     let tags = |c: &Chain| c.nodes.iter().map(|&n| mesh.node_tags[n]).collect::<Vec<_>>();
     assert_eq!(
@@ -579,7 +569,7 @@ fn disjoint_pieces_are_separate_chains_with_their_own_tips() {
     let twin_tags: Vec<u64> = split.twins.iter().map(|t| mesh.node_tags[t.minus]).collect();
     assert_eq!((twin_tags, tip_tags), (vec![5, 12], vec![6, 11]));
     // Chains that meet are refused, naming the node.
-    let meet = parse(&grid3_msh(&[(30, 5, 6), (31, 6, 7)])).unwrap();
+    let meet = parse(&grid_msh(3, 0.0, &[(30, 5, 6), (31, 6, 7)], "")).unwrap();
     let one = interface_chains(&meet, "interface").unwrap();
     let twice = [one[0].clone(), one[0].clone()];
     assert_eq!(split_interface(&meet, &twice), Err(MeshError::ChainsMeet(5)));
