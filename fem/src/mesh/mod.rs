@@ -1,7 +1,22 @@
-//! Structured Q4 meshes with a twinned interface row, and the reader of Gmsh meshes (not yet used
-//! by the solver).
+//! Structured Q4 meshes with a twinned interface row, and the reader of Gmsh meshes (used by the
+//! bulk-only unstructured time loop, not yet by the cohesive-contact solver).
+
+use nalgebra::Vector2;
 
 pub mod gmsh;
 
 pub(crate) mod interfaces;
 pub(crate) mod structured;
+
+/// Index of the node of `positions` [m] nearest to `p` [m] (the smallest index on a tie; 0 for no
+/// nodes): where a probe point records.
+pub(crate) fn nearest_node(positions: &[Vector2<f64>], p: Vector2<f64>) -> usize {
+    let mut best = (f64::INFINITY, 0);
+    for (n, x) in positions.iter().enumerate() {
+        let d = (x - p).norm_squared();
+        if d < best.0 {
+            best = (d, n);
+        }
+    }
+    best.1
+}

@@ -4,6 +4,7 @@ use crate::contact::{ContactParams, ContactState, ContactWorkspace, DetectionSur
 use crate::error::BuildError;
 use crate::law::cohesive::{ClosingTreatment, CohesiveState};
 use crate::mesh::interfaces::{FacetKind, InterfaceRow};
+use crate::mesh::nearest_node;
 use crate::mesh::structured::{Grid, GridSpec};
 use crate::model::bulk::{self, Stiffness};
 use crate::model::loading;
@@ -48,7 +49,7 @@ pub fn build_with_row_map(
     let probes = f
         .probes
         .iter()
-        .map(|p| nearest_node(&grid, Vector2::new(p[0], p[1])))
+        .map(|p| nearest_node(&grid.x0, Vector2::new(p[0], p[1])) as u32)
         .collect();
     let neumann_nodes: Vec<u32> = bd.neumann.iter().map(|p| p.node).collect();
     let deferred = crate::model::layers::deferred_layers(&grid, &fixed_dof, &neumann_nodes);
@@ -212,17 +213,6 @@ fn stiffness(grid: &Grid, d: &[[f64; 3]; 3]) -> Result<Stiffness, BuildError> {
             .collect::<Result<Vec<_>, _>>()
             .map(Stiffness::PerElement)
     }
-}
-
-fn nearest_node(grid: &Grid, p: Vector2<f64>) -> u32 {
-    let mut best = (f64::INFINITY, 0u32);
-    for (n, x) in grid.x0.iter().enumerate() {
-        let d = (x - p).norm_squared();
-        if d < best.0 {
-            best = (d, n as u32);
-        }
-    }
-    best.1
 }
 
 /// Whether column i's twins are tied: some incident facet is neither inserted nor pre-crack (§3.1).

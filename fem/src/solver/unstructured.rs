@@ -25,8 +25,11 @@
 //! records it will write before stepping. The result does not depend on the number of threads
 //! (the kernel's sums have a fixed order; the node loops here are serial).
 
-use crate::gmsh::UnstructuredMesh;
+use crate::gmsh::{MeshError, UnstructuredMesh};
 use crate::law::elastic::PlaneStrain;
+use crate::mesh::nearest_node;
+use crate::model::bulk;
+use crate::model::reduce::ordered_sum;
 use crate::model::unstructured::{UnstructuredBulk, UnstructuredError};
 use crate::output::ProbeRecord;
 use crate::scene::Ramp;
@@ -39,15 +42,8 @@ use thiserror::Error;
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum DriverError {
     /// A boundary condition names a physical group the mesh does not have.
-    #[error(
-        "boundary condition on \"{group}\": the mesh has no physical group of that name (it has: {available})"
-    )]
-    UnknownGroup {
-        /// The name asked for.
-        group: String,
-        /// The names the mesh has, comma-separated.
-        available: String,
-    },
+    #[error("boundary condition: {0}")]
+    BoundaryGroup(MeshError),
     /// The bulk kernel refused the mesh or the density.
     #[error(transparent)]
     Kernel(#[from] UnstructuredError),
@@ -247,13 +243,7 @@ impl UnstructuredDriver {
         let mut motions = Vec::new();
         let mut slot: Vec<[Option<u32>; 2]> = vec![[None, None]; nn];
         for bc in bcs {
-            let group = mesh
-                .groups
-                .get(&bc.group)
-                .ok_or_else(|| DriverError::UnknownGroup {
-                    group: bc.group.clone(),
-                    available: mesh.groups.keys().cloned().collect::<Vec<_>>().join(", "),
-                })?;
+            let group = mesh.group(&bc.group).map_err(DriverError::BoundaryGroup)?;
             for (d, c) in bc.components.iter().enumerate() {
                 let Some(motion) = c else { continue };
                 motions.push(motion.clone());
@@ -280,7 +270,7 @@ impl UnstructuredDriver {
         let probe_nodes = options
             .probes
             .iter()
-            .map(|p| nearest_node(&mesh.positions, p))
+            .map(|p| nearest_node(&mesh.positions, *p))
             .collect();
         let cd = material.wave_speeds().cd;
         let mut driver = Self {
@@ -441,20 +431,15 @@ impl UnstructuredDriver {
         &self.records
     }
 
-    /// Kinetic energy ½ Σ m |v|² [J/m].
+    /// Kinetic energy ½ Σ m |v|² [J/m] (a sum in a fixed order, as the structured solver's).
     pub fn kinetic_energy(&self) -> f64 {
         let m = self.bulk.masses();
-        0.5 * self
-            .v
-            .iter()
-            .zip(m)
-            .map(|(v, m)| m * v.norm_squared())
-            .sum::<f64>()
+        0.5 * ordered_sum(self.v.len(), |i| m[i] * self.v[i].norm_squared())
     }
 
     /// Strain energy ½ uᵀ K u = −½ Σ u·f [J/m].
     pub fn strain_energy(&self) -> f64 {
-        -0.5 * self.u.iter().zip(&self.f).map(|(u, f)| u.dot(f)).sum::<f64>()
+        bulk::strain_energy(&self.u, &self.f)
     }
 
     fn evaluate_motions(&mut self, t: f64) {
@@ -493,18 +478,6 @@ impl UnstructuredDriver {
             });
         }
     }
-}
-
-/// Index of the node nearest to `p` (the smallest index on a tie); `positions` is not empty.
-fn nearest_node(positions: &[Vector2<f64>], p: &Vector2<f64>) -> usize {
-    let mut best = (0, f64::INFINITY);
-    for (n, x) in positions.iter().enumerate() {
-        let d2 = (x - p).norm_squared();
-        if d2 < best.1 {
-            best = (n, d2);
-        }
-    }
-    best.0
 }
 
 #[cfg(test)]
@@ -605,8 +578,8 @@ mod tests {
     #[test]
     fn later_groups_combine_per_component() {
         let mesh = rect_tri();
-        let corner = nearest_node(&mesh.positions, &Vector2::new(0.0, 1.0));
-        let bottom_corner = nearest_node(&mesh.positions, &Vector2::new(0.0, 0.0));
+        let corner = nearest_node(&mesh.positions, Vector2::new(0.0, 1.0));
+        let bottom_corner = nearest_node(&mesh.positions, Vector2::new(0.0, 0.0));
         let bcs = [
             GroupBc::prescribed("left", Axis::X, ramp(1e-5, 1e-4)),
             GroupBc::roller("top", Axis::Y),
@@ -626,7 +599,10 @@ mod tests {
         let mesh = rect_tri();
         let bcs = [GroupBc::roller("left", Axis::X), GroupBc::roller("lfet", Axis::Y)];
         let err = UnstructuredDriver::new(&mesh, &material(), &bcs, &DriverOptions::default()).unwrap_err();
-        assert!(matches!(&err, DriverError::UnknownGroup { group, .. } if group == "lfet"));
+        assert!(matches!(
+            &err,
+            DriverError::BoundaryGroup(MeshError::MissingGroup { group, .. }) if group == "lfet"
+        ));
         let message = err.to_string();
         assert!(
             message.contains("\"lfet\"") && message.contains("left"),
@@ -674,7 +650,7 @@ mod tests {
         // t = 0 and every third of 100 steps, two probes each
         assert_eq!(a.records().len(), 2 * (1 + 33));
         for (p, &n) in a.probe_nodes().iter().enumerate() {
-            assert_eq!(n, nearest_node(&mesh.positions, &opts.probes[p]));
+            assert_eq!(n, nearest_node(&mesh.positions, opts.probes[p]));
         }
         assert!(a.records().last().unwrap().ux != 0.0);
         for (ra, rb) in a.records().iter().zip(b.records()) {
