@@ -58,8 +58,8 @@ pub(crate) fn friction_records(model: &Model, state: &State) -> Vec<crate::outpu
     (0..c.friction_work.len())
         .filter(|&i| c.friction_work[i] != 0.0 || c.coulomb_work[i] != 0.0)
         .map(|i| crate::output::FrictionRecord {
-            x: model.grid.x0[i].x,
-            y: model.grid.x0[i].y,
+            x: model.x0[i].x,
+            y: model.x0[i].y,
             friction_work: c.friction_work[i],
             coulomb_work: c.coulomb_work[i],
         })

@@ -1,4 +1,4 @@
-//! ParaView field snapshots (`[fem.paraview]`): the state as a bulk piece (every node, every Q4
+//! ParaView field snapshots (`[fem.paraview]`): the state as a bulk piece (every node, every T3 or Q4
 //! element) and a crack piece (the interface row as line cells, each twin its own point so the
 //! crack opens when warped), and the schedule that takes them during a run. Read-only; computed
 //! only at snapshot steps, and nothing at all unless the scene declares the table and the caller
@@ -6,9 +6,9 @@
 
 use crate::diag::section4;
 use crate::mesh::interfaces::{FacetKind, InterfaceRow};
-use crate::model::bulk;
 use crate::model::cohesive::midline_normal;
 use crate::model::state::{Model, State};
+use crate::model::stress;
 use crate::output::paraview::{CellShape, FieldArray, FieldPiece, FieldSink, FieldSnapshot, FieldValues};
 use crate::scene::Scene;
 use nalgebra::Vector2;
@@ -38,13 +38,13 @@ pub(crate) fn snapshot(model: &Model, state: &State) -> FieldSnapshot {
 }
 
 /// Every node at its reference position with u [m] and v [m/s]; every element with its stresses
-/// [Pa]: the mean of its four Gauss-point stresses σ = D B u_e (docs/fem-model.md §1), σ_zz = ν
-/// (σ_xx + σ_yy) of plane strain, and the von Mises stress of the three-dimensional tensor.
+/// [Pa]: the mean of a Q4's four Gauss-point stresses σ = D B u_e (docs/fem-model.md §1) or a T3's
+/// constant stress, σ_zz = ν (σ_xx + σ_yy) of plane strain, and the von Mises stress of the
+/// three-dimensional tensor.
 fn bulk_piece(model: &Model, state: &State) -> FieldPiece {
-    let grid = &model.grid;
-    let ne = grid.num_elements();
+    let ne = model.num_elements();
     let mut piece = FieldPiece {
-        points: grid.x0.iter().map(|x| [x.x, x.y]).collect(),
+        points: model.x0.iter().map(|x| [x.x, x.y]).collect(),
         connectivity: Vec::with_capacity(4 * ne),
         offsets: Vec::with_capacity(ne),
         shapes: Vec::with_capacity(ne),
@@ -55,10 +55,13 @@ fn bulk_piece(model: &Model, state: &State) -> FieldPiece {
     let nu = d[0][1] / (d[0][0] + d[0][1]);
     let mut s = [(); 5].map(|_| Vec::with_capacity(ne));
     for e in 0..ne {
-        piece.push_cell(CellShape::Quad, &grid.element_nodes(e));
-        let grads = bulk::gauss_gradients(&grid.element_coords(e));
-        let sig = section4::element_stresses(model, state, e, &grads);
-        let [xx, yy, xy] = [0, 1, 2].map(|p| sig.iter().map(|q| q[p]).sum::<f64>() / 4.0);
+        let nodes = model.element_nodes(e);
+        let shape = match nodes.as_slice().len() {
+            3 => CellShape::Triangle,
+            _ => CellShape::Quad,
+        };
+        piece.push_cell(shape, nodes.as_slice());
+        let (_, [xx, yy, xy]) = stress::element_mean(model, e, &state.u);
         let zz = nu * (xx + yy);
         let mises =
             (0.5 * ((xx - yy).powi(2) + (yy - zz).powi(2) + (zz - xx).powi(2)) + 3.0 * xy * xy).sqrt();
@@ -66,7 +69,7 @@ fn bulk_piece(model: &Model, state: &State) -> FieldPiece {
             s[k].push(v);
         }
     }
-    let all = 0..grid.num_nodes();
+    let all = 0..model.num_nodes();
     piece.point_data = vec![
         FieldArray::new("displacement", vectors(&state.u, all.clone())),
         FieldArray::new("velocity", vectors(&state.v, all)),
@@ -88,10 +91,7 @@ fn crack_piece(model: &Model, state: &State, row: &InterfaceRow) -> FieldPiece {
     let (nf, np) = (row.num_facets(), row.plus.len());
     let nodes: Vec<usize> = row.minus.iter().chain(&row.plus).map(|&n| n as usize).collect();
     let mut piece = FieldPiece {
-        points: nodes
-            .iter()
-            .map(|&n| [model.grid.x0[n].x, model.grid.x0[n].y])
-            .collect(),
+        points: nodes.iter().map(|&n| [model.x0[n].x, model.x0[n].y]).collect(),
         ..FieldPiece::default()
     };
     for side in 0..2u32 {
@@ -169,7 +169,7 @@ fn facet_fields(model: &Model, state: &State, row: &InterfaceRow, c: usize) -> F
     let f = &state.facets;
     let inserted = f.inserted[c];
     let sign = f.sign[c];
-    let n = midline_normal(row, &model.grid.x0, &state.u, c, sign);
+    let n = midline_normal(row, &model.x0, &state.u, c, sign);
     let t = sign * Vector2::new(n.y, -n.x);
     let opening_at = |i: usize| state.u[row.plus[i] as usize] - state.u[row.minus[i] as usize];
     let mid = 0.5 * (opening_at(c) + opening_at(c + 1));
@@ -282,7 +282,7 @@ mod tests {
         let scene = Scene::from_toml_str(&crate::test_scenes::scene_text("tiny-fem-center-crack")).unwrap();
         let (model, mut state, _) = crate::build(&scene).unwrap();
         let [[hxx, hxy], [hyx, hyy]] = [[2e-4, 3e-4], [-1e-4, -5e-4]];
-        for (u, x) in state.u.iter_mut().zip(&model.grid.x0) {
+        for (u, x) in state.u.iter_mut().zip(&model.x0) {
             *u = Vector2::new(hxx * x.x + hxy * x.y, hyx * x.x + hyy * x.y);
         }
         let m = &scene.material;

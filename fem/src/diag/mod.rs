@@ -34,7 +34,7 @@ impl Observer for Recorder<'_> {
         section4(model, state, out);
         for (k, &n) in model.probes.iter().enumerate() {
             let n = n as usize;
-            let (x, u, v) = (model.grid.x0[n], state.u[n], state.v[n]);
+            let (x, u, v) = (model.x0[n], state.u[n], state.v[n]);
             out.probes.push(ProbeRecord {
                 t: state.t,
                 probe: k,

@@ -4,9 +4,9 @@
 
 use crate::law::cohesive::ClosingTreatment;
 use crate::mesh::interfaces::{FacetKind, InterfaceRow};
-use crate::model::bulk;
 use crate::model::cohesive::{facet_gauss, midline_normal};
 use crate::model::state::{Model, State};
+use crate::model::stress::{self, Side};
 use crate::output::{FieldRecord, KktRecord, ProfileRecord};
 use nalgebra::Vector2;
 
@@ -15,7 +15,7 @@ use nalgebra::Vector2;
 const SEARCH_COLUMNS: usize = 100;
 
 fn pos(model: &Model, state: &State, n: u32) -> Vector2<f64> {
-    model.grid.x0[n as usize] + state.u[n as usize]
+    model.x0[n as usize] + state.u[n as usize]
 }
 
 /// Distances within this fraction of the element size count as touching, neither open nor in
@@ -83,7 +83,7 @@ pub(crate) fn compressive(model: &Model, state: &State, row: &InterfaceRow, i: u
         (ClosingTreatment::Standard { eps_n }, _) => {
             let mut n = Vector2::zeros();
             for c in adjacent(row, i).filter(|&c| state.facets.inserted[c]) {
-                n += midline_normal(row, &model.grid.x0, &state.u, c, state.facets.sign[c]);
+                n += midline_normal(row, &model.x0, &state.u, c, state.facets.sign[c]);
             }
             if n == Vector2::zeros() {
                 return (0.0, 0.0);
@@ -122,7 +122,12 @@ pub(crate) fn kkt(model: &Model, state: &State) -> KktRecord {
         max_slip: 0.0,
     };
     let Some(row) = &model.iface else { return r };
-    let tol = TOUCH_TOLERANCE_OVER_H * (model.grid.x0[1].x - model.grid.x0[0].x);
+    // h: the grid spacing, or the mean facet length of a Gmsh mesh's interface
+    let h = match model.grid() {
+        Some(_) => model.x0[1].x - model.x0[0].x,
+        None => row.length.iter().sum::<f64>() / row.num_facets() as f64,
+    };
+    let tol = TOUCH_TOLERANCE_OVER_H * h;
     for i in 0..row.plus.len() {
         if !adjacent(row, i).any(|c| free_face(model, state, row, c)) {
             continue;
@@ -149,17 +154,6 @@ pub(crate) fn kkt(model: &Model, state: &State) -> KktRecord {
     r
 }
 
-/// Gauss stresses [Pa] of element e.
-pub(crate) fn element_stresses(
-    model: &Model,
-    state: &State,
-    e: usize,
-    grads: &bulk::GaussGradients,
-) -> [[f64; 3]; 4] {
-    let ue = model.grid.element_nodes(e).map(|n| state.u[n as usize]);
-    bulk::gauss_stresses(grads, &model.d, &ue)
-}
-
 /// Residual stress of eq. (17) [Pa]: ∫ (σ n)·e_x dA over the + facets with midpoint in [x₀, x₁],
 /// divided by the x extent those facets cover (x₁ − x₀ up to half an element at each end); σ from
 /// the + element extrapolated to the facet Gauss points (docs/fem-model.md §1, §8.4), n the
@@ -169,22 +163,23 @@ pub(crate) fn residual_stress(model: &Model, state: &State, [x0, x1]: [f64; 2]) 
     let (mut integral, mut extent) = (0.0, 0.0);
     for c in 0..row.num_facets() {
         let (xa, xb) = (
-            model.grid.x0[row.plus[c] as usize].x,
-            model.grid.x0[row.plus[c + 1] as usize].x,
+            model.x0[row.plus[c] as usize].x,
+            model.x0[row.plus[c + 1] as usize].x,
         );
         if !crate::scene::in_range(0.5 * (xa + xb), [x0, x1]) {
             continue;
         }
         extent += xb - xa;
-        let sp = element_stresses(
+        let sp = stress::facet_side(
             model,
-            state,
-            row.elem_plus[c] as usize,
-            &model.facet_gradients[c][0],
+            row,
+            c,
+            Side::Plus,
+            &state.u,
+            facet_gauss().map(|(s, _, _)| s),
         );
         let n = row.normal[c];
-        for (s, _, _) in facet_gauss() {
-            let sig = bulk::extrapolate(&sp, s, -1.0);
+        for sig in sp {
             integral += 0.5 * row.length[c] * (sig[0] * n.x + sig[2] * n.y);
         }
     }
@@ -202,22 +197,19 @@ pub(crate) fn snapshot(
     profiles: &mut Vec<ProfileRecord>,
 ) {
     let [[x0, x1], [y0, y1]] = window;
-    for e in 0..model.grid.num_elements() {
-        let c = model.grid.element_coords(e);
-        let centre = (c[0] + c[1] + c[2] + c[3]) / 4.0;
+    for e in 0..model.num_elements() {
+        let (centre, [sxx, syy, sxy]) = stress::element_mean(model, e, &state.u);
         if centre.x < x0 || centre.x > x1 || centre.y < y0 || centre.y > y1 {
             continue;
         }
-        let sig = element_stresses(model, state, e, &bulk::gauss_gradients(&c));
-        let mean = |p: usize| sig.iter().map(|s| s[p]).sum::<f64>() / 4.0;
         fields.push(FieldRecord {
             snapshot: k,
             t: state.t,
             x: centre.x,
             y: centre.y,
-            sxx: mean(0),
-            syy: mean(1),
-            sxy: mean(2),
+            sxx,
+            syy,
+            sxy,
         });
     }
     let Some(row) = &model.iface else { return };
@@ -228,19 +220,13 @@ pub(crate) fn snapshot(
         let mut syy = 0.0;
         let mut count = 0.0;
         for c in adjacent(row, i) {
-            let sp = element_stresses(
-                model,
-                state,
-                row.elem_plus[c] as usize,
-                &model.facet_gradients[c][0],
-            );
             let xi = if c + 1 == i { 1.0 } else { -1.0 };
-            syy += bulk::extrapolate(&sp, xi, -1.0)[1];
+            syy += stress::facet_side(model, row, c, Side::Plus, &state.u, [xi])[0][1];
             count += 1.0;
         }
         let (gp, _) = gaps(model, state, row, i);
         let (pp, _) = compressive(model, state, row, i);
-        let x = model.grid.x0[row.plus[i] as usize];
+        let x = model.x0[row.plus[i] as usize];
         profiles.push(ProfileRecord {
             snapshot: k,
             t: state.t,
@@ -271,7 +257,7 @@ mod tests {
         // ∫ (σn)·e_x dA = Gγ ∫ n_y dA = Gγ (x₁ − x₀) over any facet row: σ̄ = Gγ exactly
         let (scene, model, mut state) = sinusoid();
         let gamma = 1e-3;
-        for (u, x) in state.u.iter_mut().zip(&model.grid.x0) {
+        for (u, x) in state.u.iter_mut().zip(&model.x0) {
             *u = Vector2::new(gamma * x.y, 0.0);
         }
         let expect = scene.material.shear_modulus * gamma;
@@ -299,8 +285,8 @@ mod tests {
         }
         let slope = |k: usize| {
             let (a, b) = (
-                model.grid.x0[row.minus[k] as usize],
-                model.grid.x0[row.minus[k + 1] as usize],
+                model.x0[row.minus[k] as usize],
+                model.x0[row.minus[k + 1] as usize],
             );
             ((b.y - a.y) / (b.x - a.x)).abs()
         };

@@ -6,16 +6,13 @@ use crate::model::cohesive::facet_gauss;
 use crate::model::state::{Model, State};
 use crate::output::{ArrivalRecord, InterfaceRecord, TipRecord};
 
-/// Reference x of Gauss point q of facet c [m].
+/// Interface coordinate of Gauss point q of facet c [m] (x on the built-in grids).
 fn gauss_x(model: &Model, c: usize, q: usize) -> f64 {
     let row = model
         .iface
         .as_ref()
         .expect("invariant: facets exist only with an interface row");
-    let (xa, xb) = (
-        model.grid.x0[row.minus[c] as usize].x,
-        model.grid.x0[row.minus[c + 1] as usize].x,
-    );
+    let (xa, xb) = (row.coord[c], row.coord[c + 1]);
     let (_, n1, n2) = facet_gauss()[q];
     n1 * xa + n2 * xb
 }

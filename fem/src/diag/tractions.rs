@@ -48,7 +48,12 @@ pub(crate) fn face_records(model: &Model, state: &State, out: &mut Vec<FaceRecor
         };
         out.push(FaceRecord {
             t,
-            x: model.grid.x0[n].x,
+            // the + node's own x on a grid (the upper block may be offset), else the interface coordinate
+            x: if model.grid().is_some() {
+                model.x0[n].x
+            } else {
+                row.coord[i]
+            },
             penetration: p,
             normal_traction: pn,
             tangential_traction: tt,

@@ -182,6 +182,27 @@ pub enum MeshError {
     /// Two chains given to [`split_interface`] meet at a node.
     #[error("two interface chains share node {0}; junctions of interfaces are not supported yet")]
     ChainsMeet(u64),
+    /// Interface curves that do not form one open chain (the cohesive-contact model's rule).
+    #[error(
+        "the curves {groups} form {chains} chain(s){closed}: the model takes one open chain of mesh \
+         edges, from the boundary or a crack tip to the boundary or a crack tip"
+    )]
+    NotOneOpenChain {
+        /// The curves' names joined by " + ".
+        groups: String,
+        /// Number of chains they form.
+        chains: usize,
+        /// ", one closed" when a chain is closed, else empty.
+        closed: &'static str,
+    },
+    /// A bulk element outside every surface the scene names as bulk.
+    #[error("element {element} lies in none of the bulk surfaces {groups}: every element must belong to one")]
+    OutsideBulk {
+        /// Element tag.
+        element: u64,
+        /// The bulk surfaces named, comma-separated.
+        groups: String,
+    },
 }
 
 /// Kind of a bulk element.
@@ -719,6 +740,50 @@ fn build(
     Ok(mesh)
 }
 
+impl Chain {
+    /// The same chain run the other way: the nodes and segments reversed, each segment's + and −
+    /// faces swapped (the + side is the left of the direction of travel).
+    pub fn reversed(&self) -> Chain {
+        let mut nodes = self.nodes.clone();
+        let mut segments: Vec<Segment> = self
+            .segments
+            .iter()
+            .map(|s| Segment {
+                line: s.line,
+                plus: s.minus,
+                minus: s.plus,
+            })
+            .collect();
+        // a closed chain keeps its first node first: the new segment j joins the old nodes
+        // m − j and m − j − 1 (mod m), i.e. it is the old segment m − 1 − j, as on an open chain
+        if self.closed {
+            nodes[1..].reverse();
+        } else {
+            nodes.reverse();
+        }
+        segments.reverse();
+        Chain {
+            nodes,
+            closed: self.closed,
+            segments,
+        }
+    }
+}
+
+impl UnstructuredMesh {
+    /// Per node: it lies on the outer boundary (an edge with one element only).
+    pub fn outer_nodes(&self) -> Vec<bool> {
+        let mut outer = vec![false; self.positions.len()];
+        for ((a, b), faces) in self.edge_map() {
+            if faces.len() == 1 {
+                outer[a] = true;
+                outer[b] = true;
+            }
+        }
+        outer
+    }
+}
+
 /// First node of a face's edge, in the element's (counter-clockwise) order.
 fn edge_start(mesh: &UnstructuredMesh, f: Face) -> usize {
     mesh.elements[f.element].nodes[f.local_edge]
@@ -733,14 +798,34 @@ fn edge_start(mesh: &UnstructuredMesh, f: Face) -> usize {
 /// smallest line tag. A chain runs in the direction of its smallest-tagged line (Gmsh writes a
 /// curve's lines along the curve), so the + side is the left of the curve as drawn in the `.geo`.
 pub fn interface_chains(mesh: &UnstructuredMesh, group: &str) -> Result<Vec<Chain>, MeshError> {
-    let g = mesh.group(group)?;
-    if g.dim != 1 {
-        return Err(MeshError::WrongDimension {
-            group: group.to_string(),
-            dim: g.dim,
-            expected: "an interface is a physical curve (dimension 1)",
-        });
+    interface_chains_of(mesh, &[group])
+}
+
+/// As [`interface_chains`], over the line elements of several physical curves together (a
+/// pre-crack and the cohesive interface that continues it form one chain); errors name the
+/// groups joined by " + ".
+pub fn interface_chains_of(mesh: &UnstructuredMesh, groups: &[&str]) -> Result<Vec<Chain>, MeshError> {
+    let mut lines = Vec::new();
+    for &name in groups {
+        let g = mesh.group(name)?;
+        if g.dim != 1 {
+            return Err(MeshError::WrongDimension {
+                group: name.to_string(),
+                dim: g.dim,
+                expected: "an interface is a physical curve (dimension 1)",
+            });
+        }
+        lines.extend(g.elements.iter().copied());
     }
+    lines.sort_unstable();
+    let group = groups.join(" + ");
+    let group = group.as_str();
+    let g = PhysicalGroup {
+        dim: 1,
+        tag: 0,
+        elements: lines,
+        nodes: Vec::new(),
+    };
     let edges = mesh.edge_map();
     let line_tag = |l: usize| mesh.lines[l].tag;
     let ntag = |n: usize| mesh.node_tags[n];

@@ -28,10 +28,16 @@ pub(crate) struct InterfaceRow {
     pub elem_minus: Vec<u32>,
     /// Element above each facet (+ side).
     pub elem_plus: Vec<u32>,
+    /// Local edge of the facet in its (+, −) elements (joining their nodes k and k + 1).
+    pub face_edges: Vec<[u8; 2]>,
     /// Reference length L₀ of each facet [m].
     pub length: Vec<f64>,
     /// Reference unit normal (− → +) of each facet [-].
     pub normal: Vec<Vector2<f64>>,
+    /// Interface coordinate of each column [m], increasing along the row: x on the built-in
+    /// grids; the arc length from the row's first node, plus that node's x, on a Gmsh mesh (so
+    /// that it is x on a straight interface along +x). Tips and interface records are given in it.
+    pub coord: Vec<f64>,
 }
 
 impl InterfaceRow {
@@ -50,9 +56,13 @@ impl InterfaceRow {
             plus,
             elem_minus: (0..nx).map(|c| ((row - 1) * nx + c) as u32).collect(),
             elem_plus: (0..nx).map(|c| (row * nx + c) as u32).collect(),
+            // the facet is the bottom edge of the + element, the top edge of the − one
+            face_edges: vec![[0, 2]; nx],
             length: Vec::with_capacity(nx),
             normal: Vec::with_capacity(nx),
+            coord: Vec::new(),
         };
+        out.coord = out.minus.iter().map(|&n| grid.x0[n as usize].x).collect();
         for c in 0..nx {
             let (xa, xb) = (grid.x0[out.minus[c] as usize], grid.x0[out.minus[c + 1] as usize]);
             let mid = 0.5 * (xa.x + xb.x);

@@ -6,6 +6,7 @@ use nalgebra::Vector2;
 pub mod gmsh;
 
 pub(crate) mod interfaces;
+pub mod prepared;
 pub(crate) mod structured;
 
 /// Index of the node of `positions` [m] nearest to `p` [m] (the smallest index on a tie; 0 for no

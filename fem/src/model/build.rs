@@ -9,7 +9,8 @@ use crate::mesh::structured::{Grid, GridSpec};
 use crate::model::bulk::{self, Stiffness};
 use crate::model::loading;
 use crate::model::mapped::{GaussShape, MappedStiffness, Trapezoid};
-use crate::model::state::{ContactPart, EnergyTotals, Facets, Model, State, Workspace};
+use crate::model::state::{BulkMesh, ContactPart, EnergyTotals, Facets, Model, State, Workspace};
+use crate::model::stress::FaceStress;
 use crate::scene::{ContactSurface, ModelKind, Scene, zone_of};
 use nalgebra::Vector2;
 
@@ -21,42 +22,79 @@ pub fn build(scene: &Scene) -> Result<(Model, State, Workspace), BuildError> {
     }
 }
 
+/// The mesh-dependent parts of a model, before the scene's options are added.
+pub(crate) struct MeshParts {
+    pub x0: Vec<Vector2<f64>>,
+    pub mesh: BulkMesh,
+    pub mass: Vec<f64>,
+    pub iface: Option<InterfaceRow>,
+    pub boundary: loading::BoundaryData,
+    pub crack: Option<(f64, f64)>,
+    /// Per grid layer: kept out of the sweep (empty on a Gmsh mesh).
+    pub deferred: Vec<bool>,
+}
+
 /// As [`build`], with the interface row (y = 0) mapped onto y = f(x) [m] (paper Section 4 meshes).
 pub fn build_with_row_map(
     scene: &Scene,
     row_map: Option<&dyn Fn(f64) -> f64>,
 ) -> Result<(Model, State, Workspace), BuildError> {
-    let f = &scene.fem;
     let grid = grid(scene, row_map);
     let d = scene.material.d_matrix();
     let stiffness = stiffness(&grid, &d)?;
     let mass = lumped_masses(&grid, scene.material.density);
     let crack = scene.crack.map(|c| (c.center_x, c.half_length));
     let iface = InterfaceRow::new(&grid, crack, scene.interface.is_some());
-    let bd = loading::boundary(scene, &grid);
-    let facet_gradients = iface.as_ref().map_or(Vec::new(), |row| {
-        (0..row.num_facets())
-            .map(|c| {
-                [row.elem_plus[c], row.elem_minus[c]]
-                    .map(|e| bulk::gauss_gradients(&grid.element_coords(e as usize)))
-            })
-            .collect()
-    });
-    let mut fixed_dof = vec![[false; 2]; grid.num_nodes()];
+    let boundary = loading::boundary(scene, &grid);
+    let fixed = fixed_dofs(grid.num_nodes(), &boundary);
+    let neumann_nodes: Vec<u32> = boundary.neumann.iter().map(|p| p.node).collect();
+    let deferred = crate::model::layers::deferred_layers(&grid, &fixed, &neumann_nodes);
+    assemble(
+        scene,
+        MeshParts {
+            x0: grid.x0.clone(),
+            mesh: BulkMesh::Grid { grid, stiffness },
+            mass,
+            iface,
+            boundary,
+            crack,
+            deferred,
+        },
+    )
+}
+
+/// Per node and component: prescribed by the boundary data.
+fn fixed_dofs(nodes: usize, bd: &loading::BoundaryData) -> Vec<[bool; 2]> {
+    let mut fixed_dof = vec![[false; 2]; nodes];
     for p in &bd.prescribed {
         fixed_dof[p.node as usize][p.dof as usize] = true;
     }
+    fixed_dof
+}
+
+/// The model from its mesh parts and the scene's options, with its initial state and workspace.
+pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State, Workspace), BuildError> {
+    let f = &scene.fem;
+    let MeshParts {
+        x0,
+        mesh,
+        mass,
+        iface,
+        boundary: bd,
+        crack,
+        deferred,
+    } = parts;
+    let fixed_dof = fixed_dofs(x0.len(), &bd);
     let probes = f
         .probes
         .iter()
-        .map(|p| nearest_node(&grid.x0, Vector2::new(p[0], p[1])) as u32)
+        .map(|p| nearest_node(&x0, Vector2::new(p[0], p[1])) as u32)
         .collect();
-    let neumann_nodes: Vec<u32> = bd.neumann.iter().map(|p| p.node).collect();
-    let deferred = crate::model::layers::deferred_layers(&grid, &fixed_dof, &neumann_nodes);
+    let centres: Vec<f64> = facet_centres(&iface).collect();
     let model = Model {
         deferred,
-        stiffness,
-        d,
+        mesh,
+        d: scene.material.d_matrix(),
         mass,
         dt: scene.time_step(),
         cd: scene.wave_speeds().cd,
@@ -65,11 +103,13 @@ pub fn build_with_row_map(
                 .chain(f.interface_zones.iter().map(|z| z.law))
                 .collect()
         }),
-        facet_law: facet_centres(&iface, &grid)
-            .map(|x| zone_of(&f.interface_zones, x) as u8)
+        facet_law: centres
+            .iter()
+            .map(|&x| zone_of(&f.interface_zones, x) as u8)
             .collect(),
-        facet_detect: facet_centres(&iface, &grid)
-            .map(|x| match f.contact_surface {
+        facet_detect: centres
+            .iter()
+            .map(|&x| match f.contact_surface {
                 ContactSurface::All => true,
                 ContactSurface::Zones => zone_of(&f.interface_zones, x) > 0,
             })
@@ -98,20 +138,41 @@ pub fn build_with_row_map(
         lateral_contraction: f.lateral_contraction,
         diagnostics: f.diagnostics.clone(),
         iface,
-        facet_gradients,
-        grid,
+        facet_faces: Vec::new(),
+        x0,
     };
+    let mut model = model;
+    model.facet_faces = facet_faces(&model);
     let state = initial_state(&model);
     let ws = workspace(&model);
     Ok((model, state, ws))
 }
 
-/// Reference x [m] of each facet midpoint of the interface row (none without a row).
-fn facet_centres<'a>(iface: &'a Option<InterfaceRow>, grid: &'a Grid) -> impl Iterator<Item = f64> + 'a {
-    iface.iter().flat_map(move |row| {
-        (0..row.num_facets())
-            .map(move |c| 0.5 * (grid.x0[row.minus[c] as usize].x + grid.x0[row.minus[c + 1] as usize].x))
-    })
+/// How each interface facet samples the stress of its (+, −) elements (insertion).
+fn facet_faces(model: &Model) -> Vec<[FaceStress; 2]> {
+    let Some(row) = &model.iface else {
+        return Vec::new();
+    };
+    (0..row.num_facets())
+        .map(|c| {
+            let [ep, em] = row.face_edges[c];
+            [(row.elem_plus[c], ep), (row.elem_minus[c], em)].map(|(e, edge)| {
+                crate::model::stress::face_of(
+                    &model.x0,
+                    model.element_nodes(e as usize).as_slice(),
+                    edge as usize,
+                )
+            })
+        })
+        .collect()
+}
+
+/// Interface coordinate [m] of each facet midpoint of the interface row (none without a row):
+/// x on the built-in grids, the arc length along the interface on a Gmsh mesh.
+fn facet_centres(iface: &Option<InterfaceRow>) -> impl Iterator<Item = f64> + '_ {
+    iface
+        .iter()
+        .flat_map(move |row| (0..row.num_facets()).map(move |c| 0.5 * (row.coord[c] + row.coord[c + 1])))
 }
 
 /// The structured grid of the scene; the y = 0 row is twinned when a pre-crack or an interface exists.
@@ -145,12 +206,12 @@ fn lumped_masses(grid: &Grid, density: f64) -> Vec<f64> {
 
 /// Every buffer of the step, sized once.
 fn workspace(model: &Model) -> Workspace {
-    let n = model.grid.num_nodes();
+    let n = model.num_nodes();
     let with_contact = model.contact.is_some();
     Workspace {
         f: vec![Vector2::zeros(); n],
         x: if with_contact {
-            model.grid.x0.clone()
+            model.x0.clone()
         } else {
             Vec::new()
         },
@@ -169,7 +230,12 @@ fn workspace(model: &Model) -> Workspace {
         strain_energy: 0.0,
         clock: Default::default(),
         predicted: false,
-        sweep: crate::model::layers::SweepBuffers::new(&model.grid),
+        sweep: match model.grid() {
+            Some(grid) => crate::model::layers::SweepBuffers::new(grid),
+            None => {
+                crate::model::layers::SweepBuffers::none(n.div_ceil(crate::solver::central_difference::CHUNK))
+            }
+        },
     }
 }
 
@@ -229,7 +295,7 @@ pub(crate) fn column_tied(row: &InterfaceRow, inserted: &[bool], i: usize) -> bo
 }
 
 fn initial_state(model: &Model) -> State {
-    let n = model.grid.num_nodes();
+    let n = model.num_nodes();
     let nf = model.iface.as_ref().map_or(0, |r| r.num_facets());
     let zero_state = CohesiveState {
         sigma_c_eff: 0.0,
@@ -254,7 +320,8 @@ fn initial_state(model: &Model) -> State {
     let mut contact = None;
     if let Some(row) = &model.iface {
         for i in 0..row.minus.len() {
-            if column_tied(row, &facets.inserted, i) {
+            // a crack tip inside the body is one node, not a pair
+            if row.minus[i] != row.plus[i] && column_tied(row, &facets.inserted, i) {
                 tied_twin[row.minus[i] as usize] = row.plus[i];
                 tied_twin[row.plus[i] as usize] = row.minus[i];
             }

@@ -64,7 +64,7 @@ fn element(
 ) -> f64 {
     let nodes = [row.plus[c], row.plus[c + 1], row.minus[c], row.minus[c + 1]].map(|n| n as usize);
     let un = nodes.map(|n| u[n]);
-    let xn = nodes.map(|n| model.grid.x0[n] + u[n]);
+    let xn = nodes.map(|n| model.x0[n] + u[n]);
     let geometry = FacetGeometry {
         length: row.length[c],
         sign: facets.sign[c],

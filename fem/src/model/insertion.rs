@@ -5,9 +5,9 @@
 use crate::law::cohesive::{CohesiveState, LinearCohesive};
 use crate::mesh::interfaces::{FacetKind, InterfaceRow};
 use crate::model::build::{add_facet_faces, column_tied};
-use crate::model::bulk;
 use crate::model::cohesive::facet_gauss;
 use crate::model::state::{ContactPart, Facets, Model};
+use crate::model::stress::{self, Side};
 use crate::scene::InsertionRule;
 use nalgebra::Vector2;
 
@@ -19,17 +19,13 @@ pub(crate) fn facet_tractions(
     c: usize,
     u: &[Vector2<f64>],
 ) -> [(Vector2<f64>, f64); 2] {
-    let stress = |e: u32, grads: &bulk::GaussGradients| {
-        let ue = model.grid.element_nodes(e as usize).map(|n| u[n as usize]);
-        bulk::gauss_stresses(grads, &model.d, &ue)
-    };
-    let g = &model.facet_gradients[c];
-    let (sp, sm) = (stress(row.elem_plus[c], &g[0]), stress(row.elem_minus[c], &g[1]));
+    let s = facet_gauss().map(|(s, _, _)| s);
+    let sp = stress::facet_side(model, row, c, Side::Plus, u, s);
+    let sm = stress::facet_side(model, row, c, Side::Minus, u, s);
     let n = row.normal[c];
     let tf = Vector2::new(n.y, -n.x);
-    facet_gauss().map(|(s, _, _)| {
-        // facet = bottom edge (η = −1) of the + element, top edge (η = +1) of the − element; ξ = s on both
-        let (a, b) = (bulk::extrapolate(&sp, s, -1.0), bulk::extrapolate(&sm, s, 1.0));
+    [0, 1].map(|q| {
+        let (a, b) = (sp[q], sm[q]);
         let sig = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])];
         let t = Vector2::new(sig[0] * n.x + sig[2] * n.y, sig[2] * n.x + sig[1] * n.y);
         let (snn, tau) = (t.dot(&n), t.dot(&tf));
@@ -98,14 +94,15 @@ fn insert(
     t: f64,
 ) {
     let centroid = |e: u32| {
-        let nodes = model.grid.element_nodes(e as usize);
+        let nodes = model.element_nodes(e as usize);
+        let nodes = nodes.as_slice();
         nodes
             .iter()
-            .map(|&n| model.grid.x0[n as usize] + u[n as usize])
+            .map(|&n| model.x0[n as usize] + u[n as usize])
             .sum::<Vector2<f64>>()
-            / 4.0
+            / nodes.len() as f64
     };
-    let n_plain = crate::model::cohesive::midline_normal(row, &model.grid.x0, u, c, 1.0);
+    let n_plain = crate::model::cohesive::midline_normal(row, &model.x0, u, c, 1.0);
     let up = centroid(row.elem_plus[c]) - centroid(row.elem_minus[c]);
     facets.sign[c] = if n_plain.dot(&up) > 0.0 { 1.0 } else { -1.0 };
     for (q, &(traction, eff)) in tq.iter().enumerate() {

@@ -66,4 +66,13 @@ impl SweepBuffers {
             done: vec![false; layers],
         }
     }
+
+    /// No sweep (a Gmsh mesh): the corrector runs over `chunks` chunks of nodes, none done.
+    pub(crate) fn none(chunks: usize) -> SweepBuffers {
+        SweepBuffers {
+            halo: Vec::new(),
+            ring: Vec::new(),
+            done: vec![false; chunks],
+        }
+    }
 }

@@ -10,4 +10,5 @@ pub(crate) mod mapped;
 pub(crate) mod reduce;
 pub mod state;
 pub(crate) mod stencil;
+pub(crate) mod stress;
 pub mod unstructured;

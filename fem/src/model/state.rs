@@ -5,7 +5,8 @@ use crate::contact::{ContactParams, ContactState, ContactWorkspace, DetectionSur
 use crate::law::cohesive::{ClosingTreatment, CohesiveState, LinearCohesive};
 use crate::mesh::interfaces::InterfaceRow;
 use crate::mesh::structured::Grid;
-use crate::model::bulk::{GaussGradients, Stiffness};
+use crate::model::bulk::Stiffness;
+use crate::model::unstructured::UnstructuredBulk;
 use crate::scene::{DampingSet, InsertionRule, Ramp};
 use nalgebra::Vector2;
 
@@ -31,8 +32,9 @@ impl BoundaryDof {
 /// The model: mesh, topology, parameters. Immutable during the run.
 #[derive(Debug)]
 pub struct Model {
-    pub(crate) grid: Grid,
-    pub(crate) stiffness: Stiffness,
+    /// Reference node positions X [m] (twins share a position).
+    pub(crate) x0: Vec<Vector2<f64>>,
+    pub(crate) mesh: BulkMesh,
     pub(crate) d: [[f64; 3]; 3],
     /// Lumped nodal mass [kg/m].
     pub(crate) mass: Vec<f64>,
@@ -41,8 +43,8 @@ pub struct Model {
     /// Dilatational speed c_d [m/s] (stability guard).
     pub(crate) cd: f64,
     pub(crate) iface: Option<InterfaceRow>,
-    /// Gauss gradients of the (+, −) elements of each interface facet (insertion checks).
-    pub(crate) facet_gradients: Vec<[GaussGradients; 2]>,
+    /// Stress sampling of the (+, −) elements of each interface facet (insertion checks).
+    pub(crate) facet_faces: Vec<[crate::model::stress::FaceStress; 2]>,
     /// Cohesive laws: 0 = `[interface]`, k = `interface_zones[k − 1]`; empty without an interface.
     pub(crate) laws: Vec<LinearCohesive>,
     /// Law index of each facet of the interface row.
@@ -73,6 +75,56 @@ pub struct Model {
     pub(crate) lateral_contraction: bool,
     /// Section 4 diagnostics to record.
     pub(crate) diagnostics: crate::scene::Diagnostics,
+}
+
+/// The bulk mesh and its internal-force kernel.
+#[derive(Debug)]
+pub(crate) enum BulkMesh {
+    /// The built-in structured or mapped grid of Q4 elements.
+    Grid {
+        /// Node layers and element rows.
+        grid: Grid,
+        /// Element stiffness storage (or the mapped-mesh forces).
+        stiffness: Stiffness,
+    },
+    /// A Gmsh mesh of T3 and Q4 elements, split along its interface.
+    Gmsh(Box<GmshBulk>),
+}
+
+/// A Gmsh mesh's elements and kernel.
+#[derive(Debug)]
+pub(crate) struct GmshBulk {
+    /// The T3/Q4 force kernel (positions, masses, connectivity in its own order).
+    pub kernel: UnstructuredBulk,
+    /// Node indices of each element, counter-clockwise, in the mesh's order.
+    pub elements: Vec<ElementNodes>,
+}
+
+/// The nodes of one bulk element: 4 for a Q4, 3 for a T3.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct ElementNodes {
+    nodes: [u32; 4],
+    len: u8,
+}
+
+impl ElementNodes {
+    /// The element's nodes (3 or 4), counter-clockwise.
+    pub(crate) fn from_slice(nodes: &[usize]) -> ElementNodes {
+        let mut out = [u32::MAX; 4];
+        for (o, &n) in out.iter_mut().zip(nodes) {
+            *o = n as u32;
+        }
+        ElementNodes {
+            nodes: out,
+            len: nodes.len() as u8,
+        }
+    }
+
+    /// The nodes, counter-clockwise.
+    #[inline]
+    pub(crate) fn as_slice(&self) -> &[u32] {
+        &self.nodes[..self.len as usize]
+    }
 }
 
 /// Cohesive state of the interface row's facets (struct of arrays, indexed by facet).
@@ -180,12 +232,44 @@ impl Model {
 
     /// Number of nodes (twins counted twice).
     pub fn num_nodes(&self) -> usize {
-        self.grid.num_nodes()
+        self.x0.len()
     }
 
     /// Number of bulk elements.
     pub fn num_elements(&self) -> usize {
-        self.grid.num_elements()
+        match &self.mesh {
+            BulkMesh::Grid { grid, .. } => grid.num_elements(),
+            BulkMesh::Gmsh(g) => g.elements.len(),
+        }
+    }
+
+    /// The structured grid, if the model is built on one.
+    pub(crate) fn grid(&self) -> Option<&Grid> {
+        match &self.mesh {
+            BulkMesh::Grid { grid, .. } => Some(grid),
+            BulkMesh::Gmsh(_) => None,
+        }
+    }
+
+    /// The nodes of bulk element `e`, counter-clockwise.
+    #[inline]
+    pub(crate) fn element_nodes(&self, e: usize) -> ElementNodes {
+        match &self.mesh {
+            BulkMesh::Grid { grid, .. } => ElementNodes {
+                nodes: grid.element_nodes(e),
+                len: 4,
+            },
+            BulkMesh::Gmsh(g) => g.elements[e],
+        }
+    }
+
+    /// f = −f_int(u) [N/m] for every node (overwrites `f`); parallel and the same to the bit for
+    /// any number of threads.
+    pub(crate) fn internal_forces(&self, u: &[Vector2<f64>], f: &mut [Vector2<f64>]) {
+        match &self.mesh {
+            BulkMesh::Grid { grid, stiffness } => crate::model::bulk::internal_forces(grid, stiffness, u, f),
+            BulkMesh::Gmsh(g) => g.kernel.internal_forces(u, f),
+        }
     }
 }
 

@@ -663,6 +663,23 @@ fn gauss_point(
 
 /// The element's length of the stable step [m]: T3 2A/ℓ_max, Q4 A/ℓ_max (see
 /// [`UnstructuredBulk::min_length`]).
+/// The smallest element length h_min [m] of `mesh` ([`UnstructuredBulk::min_length`] of the kernel
+/// built on it), without building the kernel; ∞ for a mesh without elements.
+pub fn min_element_length(mesh: &UnstructuredMesh) -> f64 {
+    let x = &mesh.positions;
+    mesh.elements
+        .iter()
+        .map(|el| {
+            let c = |k: usize| x[el.nodes[k]];
+            let area = match el.kind {
+                ElementKind::T3 => 0.5 * (c(1) - c(0)).perp(&(c(2) - c(0))),
+                ElementKind::Q4 => 0.5 * ((c(2) - c(0)).perp(&(c(3) - c(1)))),
+            };
+            element_length(el.kind, area, &el.nodes, x)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
 fn element_length(kind: ElementKind, area: f64, nodes: &[usize], x: &[Vector2<f64>]) -> f64 {
     let n = nodes.len();
     let longest = (0..n)

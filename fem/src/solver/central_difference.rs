@@ -64,7 +64,7 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
         (None, None)
     };
     if swept.is_none() {
-        bulk::internal_forces(&model.grid, &model.stiffness, &state.u, &mut ws.f);
+        model.internal_forces(&state.u, &mut ws.f);
         ws.sweep.done.fill(false);
     }
     ws.clock.lap(Phase::Bulk);
@@ -102,7 +102,8 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
         t1,
     );
     ws.clock.lap(Phase::Insertion);
-    let fuse = !sample;
+    // a Gmsh mesh has no layers to fuse: its predictor is a separate pass
+    let fuse = !sample && model.grid().is_some();
     let vmax2 = corrector(model, state, ws, dt, fuse).max(swept.unwrap_or(0.0));
     ws.predicted = fuse;
     restore_prescribed(model, state);
@@ -146,8 +147,9 @@ fn predictor(state: &mut State, dt: f64) {
 /// The predictor on the two node layers of the interface only: the other layers had theirs in
 /// the previous step's fused corrector.
 fn predictor_twinned_layers(model: &Model, state: &mut State, dt: f64) {
-    let w = model.grid.nx + 1;
-    for (layer, side) in model.grid.layer_side.iter().enumerate() {
+    let Some(grid) = model.grid() else { return };
+    let w = grid.nx + 1;
+    for (layer, side) in grid.layer_side.iter().enumerate() {
         if *side == LayerSide::Single {
             continue;
         }
@@ -213,7 +215,7 @@ fn combine_tied(model: &Model, state: &State, ws: &mut Workspace) {
     let Some(row) = &model.iface else { return };
     for i in 0..row.minus.len() {
         let (m, p) = (row.minus[i] as usize, row.plus[i] as usize);
-        if state.tied_twin[m] != p as u32 {
+        if m == p || state.tied_twin[m] != p as u32 {
             continue;
         }
         let (mm, mp) = (model.mass[m], model.mass[p]);
@@ -231,8 +233,10 @@ fn combine_tied(model: &Model, state: &State, ws: &mut Workspace) {
 /// operations of [`predictor`]), and their a is not stored. The interface layers keep the plain
 /// order: damping and the next step's contact work read their state between the two.
 fn corrector(model: &Model, state: &mut State, ws: &Workspace, dt: f64, fuse: bool) -> f64 {
-    let w = model.grid.nx + 1;
-    let sides = &model.grid.layer_side;
+    let (w, sides) = match model.grid() {
+        Some(grid) => (grid.nx + 1, &grid.layer_side[..]),
+        None => (CHUNK, &[][..]),
+    };
     let done = &ws.sweep.done;
     state
         .a
@@ -244,16 +248,21 @@ fn corrector(model: &Model, state: &mut State, ws: &Workspace, dt: f64, fuse: bo
         .with_min_len(crate::model::layers::BAND)
         .map(|(layer, (((a, v), u), (f, m)))| {
             let fused = fuse && sides[layer] == LayerSide::Single;
+            // a grid layer has w nodes; a Gmsh mesh's last chunk may have fewer
+            let n = a.len();
             let nodes = Nodes { a, v, u, f, m, dt };
             match (done[layer], fused) {
-                (true, true) => nodes.advance([0, w - 1].into_iter()),
-                (true, false) => nodes.correct([0, w - 1].into_iter()),
-                (false, true) => nodes.advance(0..w),
-                (false, false) => nodes.correct(0..w),
+                (true, true) => nodes.advance([0, n - 1].into_iter()),
+                (true, false) => nodes.correct([0, n - 1].into_iter()),
+                (false, true) => nodes.advance(0..n),
+                (false, false) => nodes.correct(0..n),
             }
         })
         .reduce(|| 0.0, f64::max)
 }
+
+/// Nodes per chunk of the corrector on a Gmsh mesh (the grid's chunks are its layers).
+pub(crate) const CHUNK: usize = 1024;
 
 /// One layer's arrays for the corrector.
 struct Nodes<'a> {
@@ -333,7 +342,7 @@ fn damping(model: &Model, state: &mut State) {
             dm |= dp;
             dp = dm;
         }
-        for (node, on) in [(m, dm), (p, dp)] {
+        for (node, on) in [(m, dm), (p, dp && p != m)] {
             if !on {
                 continue;
             }
@@ -358,7 +367,7 @@ mod tests {
         let scene = Scene::from_toml_str(&crate::test_scenes::scene_text("tiny-fem-center-crack")).unwrap();
         let (model, mut state, mut ws) = crate::build(&scene).unwrap();
         super::step(&model, &mut state, &mut ws, false).unwrap();
-        let interior = model.grid.node(5, 7) as usize;
+        let interior = model.grid().unwrap().node(5, 7) as usize;
         state.v[interior].x = f64::NAN;
         let err = super::step(&model, &mut state, &mut ws, false).unwrap_err();
         assert!(

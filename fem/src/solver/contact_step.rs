@@ -13,7 +13,7 @@ pub(crate) fn prepare(model: &Model, state: &State, ws: &mut Workspace) {
     };
     for &n in row.minus.iter().chain(row.plus.iter()) {
         let n = n as usize;
-        ws.x[n] = model.grid.x0[n] + state.u[n];
+        ws.x[n] = model.x0[n] + state.u[n];
     }
     if model.friction_failed_only {
         failed_faces_only(row, &state.facets, &mut ws.frictionless);

@@ -101,7 +101,7 @@ pub fn run_with_fields(
             });
         }
         if let Some(Err(b)) = failed {
-            let x = model.grid.x0[b.node];
+            let x = model.x0[b.node];
             let v = state.v[b.node];
             finish(&model, &state, &ws, &mut out, &mut snapshots);
             return Err(RunError::Unstable {

@@ -15,7 +15,7 @@
 use crate::mesh::structured::Grid;
 use crate::model::bulk::Stiffness;
 use crate::model::layers::{BAND, SweepBuffers};
-use crate::model::state::Model;
+use crate::model::state::{BulkMesh, Model};
 use crate::solver::node::advance;
 use nalgebra::Vector2;
 use rayon::prelude::*;
@@ -32,10 +32,13 @@ pub(crate) fn forces_and_advance(
     buffers: &mut SweepBuffers,
     dt: f64,
 ) -> Option<f64> {
-    let Stiffness::Shared(shared) = &model.stiffness else {
+    let BulkMesh::Grid {
+        grid,
+        stiffness: Stiffness::Shared(shared),
+    } = &model.mesh
+    else {
         return None;
     };
-    let grid = &model.grid;
     let nx = grid.nx;
     if nx < 2 {
         return None;

@@ -1,0 +1,281 @@
+//! A Gmsh mesh made ready for the cohesive-contact model: the physical groups the scene names
+//! given their roles (bulk surfaces, pre-crack and cohesive curves), the interface chain oriented
+//! and split into twins, and the interface row built on it with each facet's own geometry
+//! (docs/meshes.md, "Scenes on a Gmsh mesh").
+//!
+//! The pre-crack and cohesive curves must form one simple chain of mesh edges, open, that ends on
+//! the outer boundary or at a crack tip inside the body. It runs from its end with the smaller x
+//! (then the smaller y), so that the + side is on its left (above a horizontal interface, as on
+//! the built-in grids), and its columns are measured by the arc length from that end.
+
+use crate::gmsh::{Chain, MeshError, UnstructuredMesh, interface_chains_of, split_interface};
+use crate::mesh::interfaces::{FacetKind, InterfaceRow};
+use nalgebra::Vector2;
+use std::collections::HashSet;
+
+/// The roles of the mesh's physical groups, by name as the scene gives them.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct MeshRoles {
+    /// Physical surfaces that make the body; empty: every element.
+    pub bulk: Vec<String>,
+    /// Physical curves that are free crack faces from t = 0.
+    pub pre_crack: Vec<String>,
+    /// Physical curves where cohesive elements may be inserted.
+    pub interface: Vec<String>,
+}
+
+/// Which role's list named the group behind an error: `bulk`, `pre_crack` or `interface`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RoleError {
+    /// The role (`bulk`, `pre_crack`, `interface`), or `file` for the mesh as a whole.
+    pub role: &'static str,
+    /// What is wrong.
+    pub error: MeshError,
+}
+
+/// A mesh split along its interface, with the data the model is built from.
+#[derive(Debug, Clone)]
+pub struct PreparedMesh {
+    /// The mesh with the interface's twins appended to its nodes.
+    pub mesh: UnstructuredMesh,
+    /// Per node: on the outer boundary of the body (twins of a chain end on it too).
+    pub outer: Vec<bool>,
+    /// Per node: the + copy of a twin pair.
+    pub plus: Vec<bool>,
+    /// The interface row (`None` without pre-crack and interface curves).
+    pub(crate) row: Option<InterfaceRow>,
+    /// Smallest element length of the stable step [m].
+    pub h_min: f64,
+    /// Bounding box [[x_min, x_max], [y_min, y_max]] [m].
+    pub bbox: [[f64; 2]; 2],
+}
+
+impl PreparedMesh {
+    /// Interface-coordinate range [s₀, s₁] [m] of the pre-crack facets (`None`: none).
+    pub fn pre_crack_extent(&self) -> Option<[f64; 2]> {
+        let row = self.row.as_ref()?;
+        let pre: Vec<usize> = (0..row.num_facets())
+            .filter(|&c| row.kind[c] == FacetKind::PreCrack)
+            .collect();
+        Some([row.coord[*pre.first()?], row.coord[*pre.last()? + 1]])
+    }
+
+    /// The largest |y| [m] of the pre-crack's nodes (0 on a crack along y = 0).
+    pub fn pre_crack_max_abs_y(&self) -> f64 {
+        let Some(row) = &self.row else { return 0.0 };
+        (0..row.num_facets())
+            .filter(|&c| row.kind[c] == FacetKind::PreCrack)
+            .flat_map(|c| [row.minus[c], row.minus[c + 1]])
+            .map(|n| self.mesh.positions[n as usize].y.abs())
+            .fold(0.0, f64::max)
+    }
+
+    /// Shortest and mean facet length of the interface [m] (`None` without one).
+    pub fn facet_lengths(&self) -> Option<(f64, f64)> {
+        let row = self.row.as_ref()?;
+        let min = row.length.iter().copied().fold(f64::INFINITY, f64::min);
+        Some((min, row.length.iter().sum::<f64>() / row.num_facets() as f64))
+    }
+
+    /// Nodes of the physical curve `name` and, per node, its tributary length [m] (half of each
+    /// adjacent line element of the group).
+    pub fn curve_nodes(&self, name: &str) -> Result<(Vec<u32>, Vec<f64>), MeshError> {
+        let g = self.mesh.group(name)?;
+        if g.dim != 1 {
+            return Err(MeshError::WrongDimension {
+                group: name.to_string(),
+                dim: g.dim,
+                expected: "a boundary part is a physical curve (dimension 1)",
+            });
+        }
+        let mut weight = vec![0.0; g.nodes.len()];
+        for &l in &g.elements {
+            let [a, b] = self.mesh.lines[l].nodes;
+            let half = 0.5 * (self.mesh.positions[b] - self.mesh.positions[a]).norm();
+            for n in [a, b] {
+                let k = g
+                    .nodes
+                    .binary_search(&n)
+                    .expect("invariant: a group lists its lines' nodes");
+                weight[k] += half;
+            }
+        }
+        Ok((g.nodes.iter().map(|&n| n as u32).collect(), weight))
+    }
+}
+
+/// Gives the groups their roles, checks them, orients and splits the interface chain.
+pub fn prepare(mesh: UnstructuredMesh, roles: &MeshRoles) -> Result<PreparedMesh, RoleError> {
+    let role = |role: &'static str| move |error: MeshError| RoleError { role, error };
+    check_bulk(&mesh, &roles.bulk).map_err(role("bulk"))?;
+    let mut curves: Vec<&str> = Vec::new();
+    for (key, names) in [("pre_crack", &roles.pre_crack), ("interface", &roles.interface)] {
+        for name in names {
+            let g = mesh.group(name).map_err(role(key))?;
+            if g.dim != 1 {
+                return Err(RoleError {
+                    role: key,
+                    error: MeshError::WrongDimension {
+                        group: name.clone(),
+                        dim: g.dim,
+                        expected: "a crack or an interface is a physical curve (dimension 1)",
+                    },
+                });
+            }
+            curves.push(name);
+        }
+    }
+    let outer_before = mesh.outer_nodes();
+    let h_min = crate::model::unstructured::min_element_length(&mesh);
+    let bbox = bounding_box(&mesh.positions);
+    if curves.is_empty() {
+        let n = mesh.positions.len();
+        return Ok(PreparedMesh {
+            mesh,
+            outer: outer_before,
+            plus: vec![false; n],
+            row: None,
+            h_min,
+            bbox,
+        });
+    }
+    let key = if roles.interface.is_empty() {
+        "pre_crack"
+    } else {
+        "interface"
+    };
+    let mut chains = interface_chains_of(&mesh, &curves).map_err(role(key))?;
+    if chains.len() != 1 || chains[0].closed {
+        return Err(RoleError {
+            role: key,
+            error: MeshError::NotOneOpenChain {
+                groups: curves.join(" + "),
+                chains: chains.len(),
+                closed: if chains.iter().any(|c| c.closed) {
+                    ", one closed"
+                } else {
+                    ""
+                },
+            },
+        });
+    }
+    let mut chain = chains.remove(0);
+    let (first, last) = (
+        mesh.positions[chain.nodes[0]],
+        mesh.positions[*chain.nodes.last().expect("invariant: a chain has nodes")],
+    );
+    if (last.x, last.y) < (first.x, first.y) {
+        chain = chain.reversed();
+    }
+    let pre_lines: HashSet<usize> = roles
+        .pre_crack
+        .iter()
+        .flat_map(|name| mesh.groups[name].elements.iter().copied())
+        .collect();
+    let split = split_interface(&mesh, std::slice::from_ref(&chain)).map_err(role(key))?;
+    let n = split.mesh.positions.len();
+    let mut outer = outer_before;
+    let mut plus = vec![false; n];
+    outer.resize(n, false);
+    let mut twin_of: Vec<u32> = (0..n as u32).collect();
+    for t in &split.twins {
+        outer[t.plus] = outer[t.minus];
+        plus[t.plus] = true;
+        twin_of[t.minus] = t.plus as u32;
+    }
+    let row = row_of(&split.mesh, &chain, &twin_of, &pre_lines);
+    Ok(PreparedMesh {
+        mesh: split.mesh,
+        outer,
+        plus,
+        row: Some(row),
+        h_min,
+        bbox,
+    })
+}
+
+/// Every element must lie in one of the listed surfaces (none listed: every element is bulk).
+fn check_bulk(mesh: &UnstructuredMesh, bulk: &[String]) -> Result<(), MeshError> {
+    if bulk.is_empty() {
+        return Ok(());
+    }
+    let mut covered = vec![false; mesh.elements.len()];
+    for name in bulk {
+        let g = mesh.group(name)?;
+        if g.dim != 2 {
+            return Err(MeshError::WrongDimension {
+                group: name.clone(),
+                dim: g.dim,
+                expected: "a bulk region is a physical surface (dimension 2)",
+            });
+        }
+        for &e in &g.elements {
+            covered[e] = true;
+        }
+    }
+    match covered.iter().position(|c| !c) {
+        None => Ok(()),
+        Some(e) => Err(MeshError::OutsideBulk {
+            element: mesh.elements[e].tag,
+            groups: bulk.join(", "),
+        }),
+    }
+}
+
+fn bounding_box(x: &[Vector2<f64>]) -> [[f64; 2]; 2] {
+    let mut b = [[f64::INFINITY, f64::NEG_INFINITY]; 2];
+    for p in x {
+        for (k, v) in [p.x, p.y].into_iter().enumerate() {
+            b[k][0] = b[k][0].min(v);
+            b[k][1] = b[k][1].max(v);
+        }
+    }
+    b
+}
+
+/// The interface row along `chain` of the split mesh: column i is chain node i (the − copy) and
+/// its twin (the + copy, or the node itself at a crack tip); facet c is segment c.
+fn row_of(
+    mesh: &UnstructuredMesh,
+    chain: &Chain,
+    twin_of: &[u32],
+    pre_lines: &HashSet<usize>,
+) -> InterfaceRow {
+    let x = &mesh.positions;
+    let minus: Vec<u32> = chain.nodes.iter().map(|&n| n as u32).collect();
+    let plus: Vec<u32> = chain.nodes.iter().map(|&n| twin_of[n]).collect();
+    let nf = chain.segments.len();
+    let mut coord = Vec::with_capacity(nf + 1);
+    coord.push(x[chain.nodes[0]].x);
+    let (mut length, mut normal) = (Vec::with_capacity(nf), Vec::with_capacity(nf));
+    for c in 0..nf {
+        let t = x[chain.nodes[c + 1]] - x[chain.nodes[c]];
+        length.push(t.norm());
+        normal.push(Vector2::new(-t.y, t.x) / t.norm());
+        coord.push(coord[c] + t.norm());
+    }
+    let segs = &chain.segments;
+    InterfaceRow {
+        kind: segs
+            .iter()
+            .map(|s| {
+                if pre_lines.contains(&s.line) {
+                    FacetKind::PreCrack
+                } else {
+                    FacetKind::Cohesive
+                }
+            })
+            .collect(),
+        minus,
+        plus,
+        elem_minus: segs.iter().map(|s| s.minus.element as u32).collect(),
+        elem_plus: segs.iter().map(|s| s.plus.element as u32).collect(),
+        face_edges: segs
+            .iter()
+            .map(|s| [s.plus.local_edge as u8, s.minus.local_edge as u8])
+            .collect(),
+        length,
+        normal,
+        coord,
+    }
+}

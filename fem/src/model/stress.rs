@@ -1,0 +1,158 @@
+//! Bulk stresses sampled where the interface and the outputs need them: on either side of an
+//! interface facet (insertion, paper App. A; Section 4 diagnostics) and per element (snapshots).
+//! σ = D B u_e with B of the element's shape functions (docs/fem-model.md §1): the Gauss-point
+//! stresses of a Q4, extrapolated bilinearly to the facet; the constant stress of a T3.
+
+use crate::mesh::interfaces::InterfaceRow;
+use crate::model::bulk;
+use crate::model::state::{BulkMesh, Model};
+use nalgebra::Vector2;
+
+/// How the stress of one of a facet's two elements is sampled on the facet.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum FaceStress {
+    /// Q4: the Gauss-point stresses extrapolated bilinearly to the facet, which is the element's
+    /// local edge `edge` (joining its nodes `edge` and `edge + 1`).
+    Q4 {
+        /// Shape-function gradients at the four Gauss points [1/m].
+        grads: bulk::GaussGradients,
+        /// Local edge on the facet.
+        edge: u8,
+    },
+    /// T3: the constant stress of the element.
+    T3 {
+        /// Constant shape-function gradients [1/m].
+        grads: [Vector2<f64>; 3],
+    },
+}
+
+impl FaceStress {
+    /// Stress [σ_xx, σ_yy, σ_xy] [Pa] at the points e ∈ [−1, 1] of the facet (running from the
+    /// element's node `edge` to `edge + 1`) for the element displacements `ue` [m].
+    pub(crate) fn sample<const N: usize>(
+        &self,
+        d: &[[f64; 3]; 3],
+        ue: &[Vector2<f64>; 4],
+        at: [f64; N],
+    ) -> [[f64; 3]; N] {
+        match self {
+            FaceStress::Q4 { grads, edge } => {
+                let sig = bulk::gauss_stresses(grads, d, ue);
+                at.map(|e| {
+                    // natural coordinates of the point of local edge `edge`, corners in the order
+                    // (−1, −1), (1, −1), (1, 1), (−1, 1)
+                    let (xi, eta) = match edge {
+                        0 => (e, -1.0),
+                        1 => (1.0, e),
+                        2 => (-e, 1.0),
+                        _ => (-1.0, -e),
+                    };
+                    bulk::extrapolate(&sig, xi, eta)
+                })
+            }
+            FaceStress::T3 { grads } => {
+                let mut eps = [0.0; 3];
+                for a in 0..3 {
+                    eps[0] += grads[a].x * ue[a].x;
+                    eps[1] += grads[a].y * ue[a].y;
+                    eps[2] += grads[a].y * ue[a].x + grads[a].x * ue[a].y;
+                }
+                let sig = [0, 1, 2].map(|p| d[p][0] * eps[0] + d[p][1] * eps[1] + d[p][2] * eps[2]);
+                at.map(|_| sig)
+            }
+        }
+    }
+}
+
+/// Constant shape-function gradients ∇N_i = (y_j − y_k, x_k − x_j)/(2A) of a counter-clockwise
+/// triangle, (i, j, k) cyclic [1/m].
+pub(crate) fn t3_gradients(c: &[Vector2<f64>; 3]) -> [Vector2<f64>; 3] {
+    let two_a = (c[1] - c[0]).perp(&(c[2] - c[0]));
+    [0, 1, 2].map(|i| {
+        let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+        Vector2::new(c[j].y - c[k].y, c[k].x - c[j].x) / two_a
+    })
+}
+
+/// Which element of a facet.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Side {
+    /// The element on the + side (left of the row's direction from column c to c + 1).
+    Plus,
+    /// The element on the − side.
+    Minus,
+}
+
+/// Displacements [m] of element e's nodes (the 4th is zero on a T3).
+fn element_displacements(model: &Model, e: usize, u: &[Vector2<f64>]) -> [Vector2<f64>; 4] {
+    let mut out = [Vector2::zeros(); 4];
+    for (o, &n) in out.iter_mut().zip(model.element_nodes(e).as_slice()) {
+        *o = u[n as usize];
+    }
+    out
+}
+
+/// Stress [σ_xx, σ_yy, σ_xy] [Pa] of facet c's element on `side` at the facet points s ∈ [−1, 1]
+/// (s = −1 at column c, +1 at column c + 1).
+pub(crate) fn facet_side<const N: usize>(
+    model: &Model,
+    row: &InterfaceRow,
+    c: usize,
+    side: Side,
+    u: &[Vector2<f64>],
+    s: [f64; N],
+) -> [[f64; 3]; N] {
+    // the facet runs forwards along the + element's edge (the element lies to its left) and
+    // backwards along the − element's
+    let (e, face, at) = match side {
+        Side::Plus => (row.elem_plus[c], &model.facet_faces[c][0], s),
+        Side::Minus => (row.elem_minus[c], &model.facet_faces[c][1], s.map(|s| -s)),
+    };
+    face.sample(&model.d, &element_displacements(model, e as usize, u), at)
+}
+
+/// Reference centroid [m] of element e and its mean stress [σ_xx, σ_yy, σ_xy] [Pa]: the mean of
+/// the four Gauss-point stresses of a Q4, the constant stress of a T3.
+pub(crate) fn element_mean(model: &Model, e: usize, u: &[Vector2<f64>]) -> (Vector2<f64>, [f64; 3]) {
+    let ue = element_displacements(model, e, u);
+    match &model.mesh {
+        BulkMesh::Grid { grid, .. } => {
+            let c = grid.element_coords(e);
+            let centre = (c[0] + c[1] + c[2] + c[3]) / 4.0;
+            let sig = bulk::gauss_stresses(&bulk::gauss_gradients(&c), &model.d, &ue);
+            (
+                centre,
+                [0, 1, 2].map(|p| sig.iter().map(|q| q[p]).sum::<f64>() / 4.0),
+            )
+        }
+        BulkMesh::Gmsh(_) => {
+            let nodes = model.element_nodes(e);
+            let nodes = nodes.as_slice();
+            let centre =
+                nodes.iter().map(|&n| model.x0[n as usize]).sum::<Vector2<f64>>() / nodes.len() as f64;
+            let face = face_of(&model.x0, nodes, 0);
+            let sig = match face {
+                FaceStress::T3 { .. } => face.sample(&model.d, &ue, [0.0])[0],
+                FaceStress::Q4 { grads, .. } => {
+                    let sig = bulk::gauss_stresses(&grads, &model.d, &ue);
+                    [0, 1, 2].map(|p| sig.iter().map(|q| q[p]).sum::<f64>() / 4.0)
+                }
+            };
+            (centre, sig)
+        }
+    }
+}
+
+/// How facet c's elements are sampled: the Q4 gradients and local edge, or the T3 gradients.
+pub(crate) fn face_of(x0: &[Vector2<f64>], nodes: &[u32], edge: usize) -> FaceStress {
+    let x = |k: usize| x0[nodes[k] as usize];
+    match nodes.len() {
+        3 => FaceStress::T3 {
+            grads: t3_gradients(&[x(0), x(1), x(2)]),
+        },
+        _ => FaceStress::Q4 {
+            grads: bulk::gauss_gradients(&[x(0), x(1), x(2), x(3)]),
+            edge: edge as u8,
+        },
+    }
+}
