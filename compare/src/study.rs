@@ -112,8 +112,9 @@ impl Study {
         let stem = path
             .file_stem()
             .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
-        let study =
-            Study::from_toml_str(&text, &stem).with_context(|| format!("scene {}", path.display()))?;
+        let dir = path.parent().unwrap_or(Path::new("."));
+        let study = Study::from_toml_str_in(&text, &stem, Some(dir))
+            .with_context(|| format!("scene {}", path.display()))?;
         Ok((study, text))
     }
 
@@ -123,8 +124,18 @@ impl Study {
     /// problems are reported at once, each with its key and its line in `text`; a key both models
     /// read is reported once.
     pub fn from_toml_str(text: &str, stem: &str) -> Result<Study> {
+        Study::from_toml_str_in(text, stem, None)
+    }
+
+    /// As [`Study::from_toml_str`], with relative paths in the scene (the FE mesh file) taken from
+    /// `dir` (the scene file's folder; `None`: the working directory).
+    pub fn from_toml_str_in(text: &str, stem: &str, dir: Option<&Path>) -> Result<Study> {
         let mut problems: Vec<Problem> = Vec::new();
-        let fem = match fem::Scene::from_toml_str(text) {
+        let fem = match dir {
+            Some(d) => fem::Scene::from_toml_str_in(text, d),
+            None => fem::Scene::from_toml_str(text),
+        };
+        let fem = match fem {
             Ok(s) => Some(s),
             Err(fem::SceneError::Parse(m)) => bail!("scene does not parse: {m}"),
             Err(e) => {

@@ -99,6 +99,9 @@ pub enum BuildError {
         /// The Jacobian determinant [m^2].
         det_j: f64,
     },
+    /// The unstructured kernel cannot be built on the scene's Gmsh mesh.
+    #[error("the mesh of fem.mesh.file: {0}")]
+    Mesh(#[from] crate::model::unstructured::UnstructuredError),
 }
 
 /// The time loop stopped.

@@ -22,6 +22,8 @@ mod test_scenes;
 pub use error::{BuildError, RunError, SceneError};
 pub use law::elastic::WaveSpeeds;
 pub use mesh::gmsh;
+pub use mesh::prepared;
+pub use mesh::write_msh::grid_as_msh;
 pub use model::build::{build, build_with_row_map};
 pub use model::state::{Model, State, Workspace};
 /// Re-export of the vector type used at the API (`Vector2<f64>`), so callers need not depend on nalgebra.

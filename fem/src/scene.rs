@@ -7,6 +7,7 @@ mod damping;
 mod diagnostics;
 mod fem;
 mod interface_spec;
+mod mesh;
 mod paraview;
 mod problem;
 mod raw;
@@ -17,6 +18,7 @@ pub use diagnostics::Diagnostics;
 pub use fem::{FemSpec, InsertionRule, ModelKind};
 pub use interface_spec::{ContactFriction, ContactSurface, InterfaceZone};
 pub(crate) use interface_spec::{in_range, zone_of};
+pub use mesh::MeshSpec;
 pub use paraview::{MAX_FIELD_FILES, ParaviewSpec};
 pub use preflight::line_of;
 pub use problem::{Crack, Loading, Ramp};
@@ -56,8 +58,28 @@ impl Scene {
     /// that one error with its line; otherwise every problem found is reported at once, unknown
     /// keys included, each naming the key as written, its line in `text`, the value and what is
     /// allowed (`SceneError::Invalid`).
+    ///
+    /// Relative paths in the scene (`fem.mesh.file`) are taken from the working directory; use
+    /// [`Scene::from_toml_str_in`] or [`Scene::from_file`] for a scene read from a file.
     pub fn from_toml_str(text: &str) -> Result<Scene, SceneError> {
         preflight::read(text, validate, SceneError::problems).map_err(SceneError::from)
+    }
+
+    /// As [`Scene::from_toml_str`], with relative paths in the scene taken from `base_dir` (the
+    /// folder of the scene file).
+    pub fn from_toml_str_in(text: &str, base_dir: &std::path::Path) -> Result<Scene, SceneError> {
+        let validate_in = |mut raw: RawScene| {
+            raw.base_dir = Some(base_dir.to_path_buf());
+            validate(raw)
+        };
+        preflight::read(text, validate_in, SceneError::problems).map_err(SceneError::from)
+    }
+
+    /// Reads and validates the scene file at `path` (relative paths in it are taken from its folder).
+    pub fn from_file(path: &std::path::Path) -> Result<Scene, SceneError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| SceneError::Parse(format!("cannot read {}: {e}", path.display())))?;
+        Scene::from_toml_str_in(&text, path.parent().unwrap_or(std::path::Path::new(".")))
     }
 
     /// The same scene with another edit of its raw form, validated again.
@@ -253,7 +275,16 @@ fn validate(raw: RawScene) -> Result<Scene, SceneError> {
         (Some(_), None) => None,
         (_, c) => Some(c.as_ref().and_then(|c| c.as_ref())),
     };
-    let fem = crack_for_fem.and_then(|c| fem::validate_fem(&raw.fem, c, t_end, &mut errors));
+    let fem = crack_for_fem.and_then(|c| {
+        fem::validate_fem(
+            &raw.fem,
+            c,
+            raw.interface.is_some(),
+            raw.base_dir.as_deref(),
+            t_end,
+            &mut errors,
+        )
+    });
     let (Some(material), Some(interface), Some(crack), Some(normal), Some(shear), Some(fem), Some(duration)) =
         (material, interface, crack, normal, shear, fem, duration)
     else {

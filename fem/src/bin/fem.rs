@@ -24,7 +24,9 @@ fn main() -> Result<()> {
     let cli = Cli::parse();
     let text =
         std::fs::read_to_string(&cli.scene).with_context(|| format!("reading {}", cli.scene.display()))?;
-    let scene = fem::Scene::from_toml_str(&text).with_context(|| format!("scene {}", cli.scene.display()))?;
+    let dir = cli.scene.parent().unwrap_or(std::path::Path::new("."));
+    let scene =
+        fem::Scene::from_toml_str_in(&text, dir).with_context(|| format!("scene {}", cli.scene.display()))?;
     let out_dir = cli.run.out_dir("fem", &cli.scene).map_err(|e| anyhow!(e))?;
     let estimate = fem::estimate(&scene);
     cli.run

@@ -9,13 +9,20 @@ use crate::mesh::structured::{Grid, GridSpec};
 use crate::model::bulk::{self, Stiffness};
 use crate::model::loading;
 use crate::model::mapped::{GaussShape, MappedStiffness, Trapezoid};
-use crate::model::state::{BulkMesh, ContactPart, EnergyTotals, Facets, Model, State, Workspace};
+use crate::model::state::{
+    BulkMesh, ContactPart, ElementNodes, EnergyTotals, Facets, GmshBulk, Model, State, Workspace,
+};
 use crate::model::stress::FaceStress;
+use crate::model::unstructured::UnstructuredBulk;
+use crate::scene::MeshSpec;
 use crate::scene::{ContactSurface, ModelKind, Scene, zone_of};
 use nalgebra::Vector2;
 
 /// Builds the model, its initial state and the workspace from a validated scene.
 pub fn build(scene: &Scene) -> Result<(Model, State, Workspace), BuildError> {
+    if let Some(m) = &scene.fem.mesh {
+        return build_on_mesh(scene, m);
+    }
     match scene.fem.interface_polyline {
         Some(_) => build_with_row_map(scene, Some(&|x| scene.fem.interface_y(x))),
         None => build_with_row_map(scene, None),
@@ -59,6 +66,30 @@ pub fn build_with_row_map(
             boundary,
             crack,
             deferred,
+        },
+    )
+}
+
+/// The model on the scene's Gmsh mesh, split along its interface at validation.
+fn build_on_mesh(scene: &Scene, spec: &MeshSpec) -> Result<(Model, State, Workspace), BuildError> {
+    let p = &spec.prepared;
+    let kernel = UnstructuredBulk::new(&p.mesh, &scene.material.d_matrix(), scene.material.density)?;
+    let elements = p
+        .mesh
+        .elements
+        .iter()
+        .map(|e| ElementNodes::from_slice(&e.nodes))
+        .collect();
+    assemble(
+        scene,
+        MeshParts {
+            x0: p.mesh.positions.clone(),
+            mass: kernel.masses().to_vec(),
+            mesh: BulkMesh::Gmsh(Box::new(GmshBulk { kernel, elements })),
+            iface: p.row.clone(),
+            boundary: loading::boundary_on_mesh(scene, p),
+            crack: scene.crack.map(|c| (c.center_x, c.half_length)),
+            deferred: Vec::new(),
         },
     )
 }

@@ -2,6 +2,7 @@
 //! lateral-contraction term of docs/cases.md) on the whole outer boundary, or side-wise uniform
 //! displacements/tractions (`[fem.boundary]`), all through the ramp of eq. (B.1).
 
+use crate::mesh::prepared::PreparedMesh;
 use crate::mesh::structured::{Grid, LayerSide};
 use crate::model::state::BoundaryDof;
 use crate::scene::{BoundaryKind, BoundarySpec, Ramp, Scene};
@@ -60,29 +61,33 @@ pub(crate) fn westergaard_unit(
 /// Builds the boundary data of a scene on a grid.
 pub(crate) fn boundary(scene: &Scene, grid: &Grid) -> BoundaryData {
     match &scene.fem.boundary {
-        Some(b) => sidewise(b, grid),
+        Some(b) => sidewise_grid(b, grid),
         None => westergaard(scene, grid),
     }
 }
 
 fn westergaard(scene: &Scene, grid: &Grid) -> BoundaryData {
+    let nodes = (0..grid.num_nodes())
+        .filter(|&n| grid.on_outer_boundary(n))
+        .map(|n| {
+            let minus = grid.layer_side[n / (grid.nx + 1)] == LayerSide::Minus;
+            (n, grid.x0[n], minus)
+        });
+    westergaard_on(scene, nodes)
+}
+
+/// The Westergaard field on `nodes`: (node, reference position [m], it is the − copy of a twin).
+fn westergaard_on(scene: &Scene, nodes: impl Iterator<Item = (usize, Vector2<f64>, bool)>) -> BoundaryData {
     let (xc, a) = scene.crack.map_or((0.0, 0.0), |c| (c.center_x, c.half_length));
     let nu = scene.material.poisson_ratio;
     let g = scene.material.shear_modulus;
     let ramps = vec![scene.loading.normal, scene.loading.shear];
     let mut prescribed = Vec::new();
-    for n in 0..grid.num_nodes() {
-        if !grid.on_outer_boundary(n) {
-            continue;
-        }
-        let layer = n / (grid.nx + 1);
-        let x = grid.x0[n].x - xc;
-        let mut y = grid.x0[n].y;
+    for (n, p, minus) in nodes {
+        let x = p.x - xc;
+        let mut y = p.y;
         if y == 0.0 && x.abs() < a {
-            y = match grid.layer_side[layer] {
-                LayerSide::Minus => -1e-12 * a,
-                _ => 1e-12 * a,
-            };
+            y = if minus { -1e-12 * a } else { 1e-12 * a };
         }
         let terms = FieldTerms {
             lateral: scene.fem.lateral_contraction,
@@ -102,6 +107,26 @@ fn westergaard(scene: &Scene, grid: &Grid) -> BoundaryData {
         ramps,
         prescribed,
         neumann: Vec::new(),
+    }
+}
+
+/// Boundary data on a Gmsh mesh: the Westergaard field on every node of the outer boundary, or
+/// `[fem.boundary]` with each side on the physical curve of its name (checked at validation).
+pub(crate) fn boundary_on_mesh(scene: &Scene, mesh: &PreparedMesh) -> BoundaryData {
+    match &scene.fem.boundary {
+        Some(b) => {
+            let sides = ["bottom", "right", "top", "left"].map(|name| {
+                mesh.curve_nodes(name)
+                    .unwrap_or_else(|_| (Vec::new(), Vec::new()))
+            });
+            sidewise(b, &sides)
+        }
+        None => westergaard_on(
+            scene,
+            (0..mesh.outer.len())
+                .filter(|&n| mesh.outer[n])
+                .map(|n| (n, mesh.mesh.positions[n], !mesh.plus[n])),
+        ),
     }
 }
 
@@ -127,12 +152,21 @@ fn tributary(grid: &Grid, nodes: &[u32]) -> Vec<f64> {
     w
 }
 
-fn sidewise(b: &BoundarySpec, grid: &Grid) -> BoundaryData {
-    let sides = side_nodes(grid);
+fn sidewise_grid(b: &BoundarySpec, grid: &Grid) -> BoundaryData {
+    let sides = side_nodes(grid).map(|nodes| {
+        let w = tributary(grid, &nodes);
+        (nodes, w)
+    });
+    sidewise(b, &sides)
+}
+
+/// Side-wise conditions on the sides' (nodes, tributary lengths [m]), in the order
+/// [bottom, right, top, left].
+fn sidewise(b: &BoundarySpec, sides: &[(Vec<u32>, Vec<f64>); 4]) -> BoundaryData {
     let mut ramps = Vec::new();
     let mut presc_index: HashMap<(u32, u8), usize> = HashMap::new();
     let mut prescribed: Vec<BoundaryDof> = Vec::new();
-    for (s, nodes) in sides.iter().enumerate() {
+    for (s, (nodes, _)) in sides.iter().enumerate() {
         for dof in 0..2u8 {
             let Some(c) = b.sides[s][dof as usize] else {
                 continue;
@@ -159,8 +193,7 @@ fn sidewise(b: &BoundarySpec, grid: &Grid) -> BoundaryData {
         }
     }
     let mut neumann = Vec::new();
-    for (s, nodes) in sides.iter().enumerate() {
-        let w = tributary(grid, nodes);
+    for (s, (nodes, w)) in sides.iter().enumerate() {
         for dof in 0..2u8 {
             let Some(c) = b.sides[s][dof as usize] else {
                 continue;
@@ -170,7 +203,7 @@ fn sidewise(b: &BoundarySpec, grid: &Grid) -> BoundaryData {
             }
             ramps.push(c.ramp);
             let k = (ramps.len() - 1) as u8;
-            for (&n, &wn) in nodes.iter().zip(&w) {
+            for (&n, &wn) in nodes.iter().zip(w) {
                 if wn > 0.0 && !presc_index.contains_key(&(n, dof)) {
                     neumann.push(BoundaryDof {
                         node: n,

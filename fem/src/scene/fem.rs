@@ -7,6 +7,7 @@ use super::diagnostics::{Diagnostics, diagnostics};
 use super::interface_spec::{
     ContactFriction, ContactSurface, InterfaceZone, contact_friction, sine_polyline, zones_and_surface,
 };
+use super::mesh::{MeshSpec, mesh};
 use super::paraview::{ParaviewSpec, paraview};
 use super::problem::Crack;
 use super::raw::RawFem;
@@ -92,6 +93,9 @@ pub struct FemSpec {
     pub boundary: Option<BoundarySpec>,
     /// ParaView field snapshots (`[fem.paraview]`); `None`: none are taken.
     pub paraview: Option<ParaviewSpec>,
+    /// The Gmsh mesh of `[fem.mesh]`; `None`: the built-in grid. With a mesh, `x_range` and
+    /// `y_range` are its bounding box and `element_size` the mean facet length of its interface.
+    pub mesh: Option<MeshSpec>,
 }
 
 fn is_multiple(length: f64, h: f64) -> bool {
@@ -147,11 +151,24 @@ fn geometry(f: &RawFem, crack: Option<&Crack>) -> Result<(), SceneError> {
 pub(crate) fn validate_fem(
     f: &RawFem,
     crack: Option<&Crack>,
+    cohesive: bool,
+    base_dir: Option<&std::path::Path>,
     duration: f64,
     errors: &mut Vec<SceneError>,
 ) -> Option<FemSpec> {
     let before = errors.len();
-    let geometry_ok = keep(errors, geometry(f, crack)).is_some();
+    // with a mesh, the form is completed from it (domain, element size) and the grid's own
+    // checks are skipped; a mesh that cannot be used stops here (the other checks would only
+    // repeat its absence)
+    let (mesh, effective) = match keep(errors, mesh(f, crack, cohesive, base_dir))? {
+        Some((spec, effective)) => (Some(spec), Some(effective)),
+        None => (None, None),
+    };
+    let f = effective.as_ref().unwrap_or(f);
+    let geometry_ok = match &mesh {
+        None => keep(errors, geometry(f, crack)).is_some(),
+        Some(m) => keep(errors, mesh_boundary(f, crack, m)).is_some(),
+    };
     let options = keep(errors, options(f));
     let damping = keep(errors, damping(f));
     let steps = keep(errors, step_and_penalties(f, duration));
@@ -162,8 +179,9 @@ pub(crate) fn validate_fem(
     let diagnostics = keep(errors, diagnostics(f, duration));
     let probes = keep(errors, probes(f));
     let paraview = keep(errors, paraview(f, duration));
-    let polyline = match (geometry_ok, &blocks) {
-        (true, Some((upper_offset, _))) => keep(errors, interface_row(f, crack, *upper_offset)),
+    let polyline = match (geometry_ok, &blocks, &mesh) {
+        (true, Some((upper_offset, _)), None) => keep(errors, interface_row(f, crack, *upper_offset)),
+        (true, Some(_), Some(_)) => Some(None),
         _ => None,
     };
     if errors.len() > before {
@@ -197,7 +215,45 @@ pub(crate) fn validate_fem(
         probes: probes?,
         boundary,
         paraview: paraview?,
+        mesh,
     })
+}
+
+/// With a mesh: the Westergaard field needs a straight pre-crack on y = 0, and each side of
+/// `[fem.boundary]` applies to the physical curve of the same name.
+fn mesh_boundary(f: &RawFem, crack: Option<&Crack>, m: &MeshSpec) -> Result<(), SceneError> {
+    let p = &m.prepared;
+    match &f.boundary {
+        None => {
+            let a = crack.map_or(0.0, |c| c.half_length);
+            // 1e-9 a: a straight crack drawn on y = 0 is exactly there; anything else is not the
+            // crack of the analytic field
+            if p.pre_crack_max_abs_y() > 1e-9 * a {
+                return Err(inconsistent(
+                    "fem.boundary",
+                    format!(
+                        "missing: the Westergaard boundary field needs a straight pre-crack on y = 0, and the \
+                         mesh's pre-crack reaches |y| = {:.3e} m; give [fem.boundary]",
+                        p.pre_crack_max_abs_y()
+                    ),
+                ));
+            }
+        }
+        Some(b) => {
+            for (name, given) in [
+                ("bottom", b.bottom.is_some()),
+                ("right", b.right.is_some()),
+                ("top", b.top.is_some()),
+                ("left", b.left.is_some()),
+            ] {
+                if given {
+                    p.curve_nodes(name)
+                        .map_err(|e| inconsistent(format!("fem.boundary.{name}"), e.to_string()))?;
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The interface row's path: the sine of `interface_sine` sampled at the node columns, or the
@@ -420,6 +476,9 @@ impl FemSpec {
     /// quad; the element eigenvalue bound gives 0.60 h at the sinusoid's steepest slope s = π/2,
     /// the altitude 0.54 h, so the altitude is the safe side).
     pub fn min_edge(&self) -> f64 {
+        if let Some(m) = &self.mesh {
+            return m.prepared.h_min;
+        }
         let h = self.element_size;
         if self.interface_polyline.is_none() {
             return h;

@@ -18,6 +18,10 @@ pub(crate) struct RawScene {
     /// Owned by the compare harness: accepted, not read.
     #[allow(dead_code)]
     pub compare: Option<toml::Value>,
+    /// Folder that relative paths in the scene (`fem.mesh.file`) are resolved against: the scene
+    /// file's folder, or the working directory for a scene given as text. Not a key.
+    #[serde(skip)]
+    pub base_dir: Option<std::path::PathBuf>,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -88,9 +92,14 @@ pub(crate) struct RawBoundary {
 
 #[derive(Debug, Clone, Deserialize)]
 pub(crate) struct RawFem {
+    /// NaN when not given (required without `[fem.mesh]`, refused with it).
+    #[serde(default = "nan2")]
     pub x_range: [f64; 2],
+    #[serde(default = "nan2")]
     pub y_range: [f64; 2],
+    #[serde(default = "nan")]
     pub element_size: f64,
+    pub mesh: Option<RawMesh>,
     pub model: Option<String>,
     pub time_step_safety: Option<f64>,
     pub time_step: Option<f64>,
@@ -119,6 +128,24 @@ pub(crate) struct RawFem {
     pub probes: Option<Vec<[f64; 2]>>,
     pub boundary: Option<RawBoundary>,
     pub paraview: Option<RawParaview>,
+}
+
+fn nan() -> f64 {
+    f64::NAN
+}
+
+fn nan2() -> [f64; 2] {
+    [f64::NAN; 2]
+}
+
+/// `[fem.mesh]`: a Gmsh mesh and the roles of its physical groups.
+#[derive(Debug, Clone, Deserialize)]
+pub(crate) struct RawMesh {
+    /// Optional in the form so that a misspelt key is reported as unknown, next to this one missing.
+    pub file: Option<String>,
+    pub bulk: Option<Vec<String>>,
+    pub pre_crack: Option<Vec<String>>,
+    pub interface: Option<Vec<String>>,
 }
 
 /// `[fem.paraview]`: ParaView field snapshots.

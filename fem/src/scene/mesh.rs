@@ -1,0 +1,152 @@
+//! `[fem.mesh]`: the scene's body is a Gmsh mesh (MSH 4.1) instead of the built-in grid. The file
+//! is read, its groups given their roles and its interface split here, during validation, so that
+//! a missing group or a bad mesh is reported before any work (docs/scenes.md, "[fem.mesh]").
+
+use super::checks::inconsistent;
+use super::problem::Crack;
+use super::raw::{RawFem, RawMesh};
+use crate::error::SceneError;
+use crate::mesh::prepared::{MeshRoles, PreparedMesh, prepare};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// A validated `[fem.mesh]`.
+#[derive(Debug, Clone)]
+pub struct MeshSpec {
+    /// The mesh file as resolved (relative paths from the scene file's folder).
+    pub file: PathBuf,
+    /// The roles of its physical groups.
+    pub roles: MeshRoles,
+    /// The mesh read, checked and split along its interface (shared by every variant of the scene).
+    pub prepared: Arc<PreparedMesh>,
+}
+
+impl PartialEq for MeshSpec {
+    fn eq(&self, other: &Self) -> bool {
+        self.file == other.file && self.roles == other.roles
+    }
+}
+
+/// The `[fem]` keys that describe a built-in grid, refused with a mesh (the file is the geometry).
+const GRID_KEYS: [&str; 6] = [
+    "x_range",
+    "y_range",
+    "element_size",
+    "upper_offset",
+    "interface_polyline",
+    "interface_sine",
+];
+
+/// Validates `[fem.mesh]` (`None`: the scene uses the built-in grid) and returns it with the
+/// `[fem]` form completed from the mesh: x_range and y_range its bounding box, element_size the
+/// mean facet length of its interface (or its smallest element length without one), so that
+/// every check of the other keys applies unchanged.
+pub(crate) fn mesh(
+    f: &RawFem,
+    crack: Option<&Crack>,
+    cohesive: bool,
+    base_dir: Option<&Path>,
+) -> Result<Option<(MeshSpec, RawFem)>, SceneError> {
+    let Some(m) = &f.mesh else {
+        for (key, missing) in [
+            ("fem.x_range", f.x_range[0].is_nan()),
+            ("fem.y_range", f.y_range[0].is_nan()),
+            ("fem.element_size", f.element_size.is_nan()),
+        ] {
+            if missing {
+                return Err(inconsistent(
+                    key,
+                    "missing: the built-in grid needs fem.x_range, fem.y_range and fem.element_size (or give [fem.mesh])",
+                ));
+            }
+        }
+        return Ok(None);
+    };
+    let given = [
+        !f.x_range[0].is_nan(),
+        !f.y_range[0].is_nan(),
+        !f.element_size.is_nan(),
+        f.upper_offset.is_some(),
+        f.interface_polyline.is_some(),
+        f.interface_sine.is_some(),
+    ];
+    if let Some(k) = given.iter().position(|&g| g) {
+        return Err(inconsistent(
+            format!("fem.{}", GRID_KEYS[k]),
+            "describes the built-in grid; with [fem.mesh] the mesh file is the geometry",
+        ));
+    }
+    let (file, roles) = roles(m, base_dir)?;
+    if !roles.interface.is_empty() && !cohesive {
+        return Err(inconsistent(
+            "fem.mesh.interface",
+            "needs an [interface] section (the cohesive law of its facets)",
+        ));
+    }
+    if crack.is_some() != !roles.pre_crack.is_empty() {
+        return Err(inconsistent(
+            "fem.mesh.pre_crack",
+            "[crack] and fem.mesh.pre_crack go together: the mesh's pre-crack curve and the crack the \
+             other parts of the scene (boundary field, spectral model) read",
+        ));
+    }
+    let mesh = crate::gmsh::UnstructuredMesh::read(&file)
+        .map_err(|e| inconsistent("fem.mesh.file", e.to_string()))?;
+    let prepared = prepare(mesh, &roles)
+        .map_err(|e| inconsistent(format!("fem.mesh.{}", e.role), e.error.to_string()))?;
+    if let (Some(c), Some([s0, s1])) = (crack, prepared.pre_crack_extent()) {
+        // the mesh's coordinates are printed to 16 digits: a crack that is meant to match does
+        // to far better than a millionth of a facet
+        let tol = 1e-6 * prepared.facet_lengths().map_or(prepared.h_min, |(_, mean)| mean);
+        let (a, b) = (c.center_x - c.half_length, c.center_x + c.half_length);
+        if (s0 - a).abs() > tol || (s1 - b).abs() > tol {
+            return Err(inconsistent(
+                "crack.half_length",
+                format!(
+                    "the mesh's pre-crack spans [{s0}, {s1}] m along the interface; [crack] says [{a}, {b}] m"
+                ),
+            ));
+        }
+    }
+    let mut effective = f.clone();
+    let b = prepared.bbox;
+    effective.x_range = b[0];
+    effective.y_range = b[1];
+    effective.element_size = prepared.facet_lengths().map_or(prepared.h_min, |(_, mean)| mean);
+    if effective.max_gap.is_none() {
+        // the paper's detection distance: the smallest element size along the interface
+        effective.max_gap = Some(prepared.facet_lengths().map_or(prepared.h_min, |(min, _)| min));
+    }
+    Ok(Some((
+        MeshSpec {
+            file,
+            roles,
+            prepared: Arc::new(prepared),
+        },
+        effective,
+    )))
+}
+
+/// The file (resolved) and the roles.
+fn roles(m: &RawMesh, base_dir: Option<&Path>) -> Result<(PathBuf, MeshRoles), SceneError> {
+    let Some(file) = &m.file else {
+        return Err(inconsistent(
+            "fem.mesh.file",
+            "missing: give the Gmsh mesh file (MSH 4.1, relative to the scene file)",
+        ));
+    };
+    let path = Path::new(file);
+    let file = match base_dir {
+        Some(d) if path.is_relative() => d.join(path),
+        _ => path.to_path_buf(),
+    };
+    let list = |v: &Option<Vec<String>>| v.clone().unwrap_or_default();
+    Ok((
+        file,
+        MeshRoles {
+            bulk: list(&m.bulk),
+            pre_crack: list(&m.pre_crack),
+            interface: list(&m.interface),
+        },
+    ))
+}
