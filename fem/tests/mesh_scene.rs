@@ -91,3 +91,93 @@ fn the_built_in_grid_written_to_msh_runs_to_the_same_tips() {
         assert!((x - y).abs() <= 1e-6 * ea.boundary_work, "{what}: {x} vs {y}");
     }
 }
+
+/// The tiny centre crack's grid as an MSH file in `dir`, and the scene text without its grid keys.
+fn tiny_on_mesh(dir: &Path, roles: &str) -> String {
+    let text = scene_text("tiny-fem-center-crack");
+    let file = dir.join("grid.msh");
+    std::fs::write(
+        &file,
+        fem::grid_as_msh(&Scene::from_toml_str(&text).unwrap()).unwrap(),
+    )
+    .unwrap();
+    on_mesh(&text, &file, roles)
+}
+
+/// The error of a scene that must be refused, as text.
+fn refused(text: &str) -> String {
+    match Scene::from_toml_str(text) {
+        Ok(_) => panic!("the scene was accepted"),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn bad_mesh_scenes_are_refused_naming_the_key() {
+    let dir = temp_dir("refused");
+    let good = "pre_crack = [\"crack\"]\ninterface = [\"interface\"]";
+    // a group the file lacks: named with the mesh's own list
+    let e = refused(&tiny_on_mesh(
+        &dir,
+        "pre_crack = [\"crack\"]\ninterface = [\"interfaces\"]",
+    ));
+    assert!(
+        e.contains("fem.mesh.interface") && e.contains("\"interfaces\"") && e.contains("bottom"),
+        "{e}"
+    );
+    // a surface named as a crack
+    let e = refused(&tiny_on_mesh(
+        &dir,
+        "pre_crack = [\"body\"]\ninterface = [\"interface\"]",
+    ));
+    assert!(
+        e.contains("fem.mesh.pre_crack") && e.contains("dimension 2"),
+        "{e}"
+    );
+    // a curve named as the bulk
+    let e = refused(&tiny_on_mesh(&dir, &format!("bulk = [\"top\"]\n{good}")));
+    assert!(e.contains("fem.mesh.bulk") && e.contains("dimension 1"), "{e}");
+    // the grid's keys beside a mesh
+    let text = tiny_on_mesh(&dir, good).replace("[fem]\n", "[fem]\nelement_size = 1e-3\n");
+    let e = refused(&text);
+    assert!(
+        e.contains("fem.element_size") && e.contains("mesh file is the geometry"),
+        "{e}"
+    );
+    // no file
+    let e = refused(&tiny_on_mesh(&dir, good).replace("grid.msh", "nowhere.msh"));
+    assert!(e.contains("fem.mesh.file") && e.contains("nowhere.msh"), "{e}");
+    // a [crack] the mesh's pre-crack does not match
+    let e = refused(&tiny_on_mesh(&dir, good).replace("half_length = 0.01 ", "half_length = 0.012 "));
+    assert!(
+        e.contains("crack.half_length") && e.contains("along the interface"),
+        "{e}"
+    );
+    // a side of [fem.boundary] that is no curve of the mesh
+    let text = tiny_on_mesh(&dir, good)
+        + "\n[fem.boundary]\nbottom = { y = { kind = \"displacement\", initial = 0.0, final = 0.0, ramp_start = 0.0, ramp_end = 0.0 } }\n";
+    let msh = dir.join("grid.msh");
+    let renamed = std::fs::read_to_string(&msh)
+        .unwrap()
+        .replace("\"bottom\"", "\"floor\"");
+    std::fs::write(&msh, renamed).unwrap();
+    let e = refused(&text);
+    assert!(e.contains("fem.boundary.bottom") && e.contains("floor"), "{e}");
+    // an interface without a cohesive law
+    let text = tiny_on_mesh(&dir, good);
+    let start = text.find("[interface]").unwrap();
+    let end = start + text[start..].find("[crack]").unwrap();
+    let e = refused(&format!("{}{}", &text[..start], &text[end..]));
+    assert!(
+        e.contains("fem.mesh.interface") && e.contains("[interface]"),
+        "{e}"
+    );
+}
+
+/// The grid path and the mesh path refuse the missing grid keys and the missing file key alike.
+#[test]
+fn a_grid_scene_without_its_keys_names_them() {
+    let text = scene_text("tiny-fem-center-crack").replace("element_size = 1e-3", "");
+    let e = refused(&text);
+    assert!(e.contains("fem.element_size") && e.contains("missing"), "{e}");
+}

@@ -1,0 +1,51 @@
+// The paper's centre crack (Section 3) on an unstructured triangle mesh: the box
+// [-0.25, 0.25] x [-0.125, 0.125] m, the pre-crack |x| < a = 0.125 m on y = 0 and the cohesive
+// interface on the rest of y = 0. Triangles of h = 1 mm along y = 0, growing to 8 mm away from it.
+// Meshed by: gmsh -2 -format msh41 center-crack-tri.geo -o center-crack-tri.msh
+a = 0.125;
+L = 0.25;
+H = 0.125;
+h = 1e-3;
+hmax = 8e-3;
+Point(1) = {-L, -H, 0, hmax};
+Point(2) = {L, -H, 0, hmax};
+Point(3) = {L, 0, 0, h};
+Point(4) = {a, 0, 0, h};
+Point(5) = {-a, 0, 0, h};
+Point(6) = {-L, 0, 0, h};
+Point(7) = {L, H, 0, hmax};
+Point(8) = {-L, H, 0, hmax};
+Line(1) = {1, 2};    // bottom
+Line(2) = {2, 3};    // right, lower half
+Line(3) = {3, 4};    // interface, right
+Line(4) = {4, 5};    // pre-crack
+Line(5) = {5, 6};    // interface, left
+Line(6) = {6, 1};    // left, lower half
+Line(7) = {3, 7};    // right, upper half
+Line(8) = {7, 8};    // top
+Line(9) = {8, 6};    // left, upper half
+Curve Loop(1) = {1, 2, 3, 4, 5, 6};
+Plane Surface(1) = {1};
+Curve Loop(2) = {-5, -4, -3, 7, 8, 9};
+Plane Surface(2) = {2};
+// h along y = 0 (within 5 mm), growing linearly to hmax at 60 mm
+Field[1] = Distance;
+Field[1].CurvesList = {3, 4, 5};
+Field[1].Sampling = 600;
+Field[2] = Threshold;
+Field[2].InField = 1;
+Field[2].SizeMin = h;
+Field[2].SizeMax = hmax;
+Field[2].DistMin = 0.005;
+Field[2].DistMax = 0.06;
+Background Field = 2;
+Mesh.MeshSizeExtendFromBoundary = 0;
+Mesh.MeshSizeFromPoints = 0;
+Mesh.MeshSizeFromCurvature = 0;
+Physical Surface("body") = {1, 2};
+Physical Curve("crack") = {4};
+Physical Curve("interface") = {3, 5};
+Physical Curve("bottom") = {1};
+Physical Curve("right") = {2, 7};
+Physical Curve("top") = {8};
+Physical Curve("left") = {6, 9};
