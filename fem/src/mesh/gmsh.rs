@@ -1,6 +1,7 @@
 //! Gmsh MSH 4.1 meshes (ASCII and binary) read into a neutral, validated 2D mesh, and the
 //! interface topology built on it: chains of line elements along a physical curve, and the split
-//! of their nodes into twins. The solver does not use these meshes yet (docs/meshes.md).
+//! of their nodes into twins. Scenes use them through `[fem.mesh]` (`crate::mesh::prepared`,
+//! docs/meshes.md).
 //!
 //! The file is parsed by the `mshio` crate (header, entities, nodes, elements, both encodings).
 //! `mshio` skips the `$PhysicalNames` section, which MSH 4.1 writes as text in both encodings;

@@ -1,6 +1,6 @@
 //! The bulk kernel on unstructured meshes of T3 and Q4 elements ([`crate::gmsh::UnstructuredMesh`]):
 //! lumped masses, the smallest element length of the stable step, and the race-free, deterministic
-//! rayon evaluation of the internal forces. Not used by the time loop yet (docs/meshes.md).
+//! rayon evaluation of the internal forces: the bulk of a scene on a Gmsh mesh (docs/meshes.md).
 //!
 //! Elements (plane strain, thickness 1 m, so forces are per metre of thickness):
 //! - **T3**, the constant-strain triangle: f_e = A t Bᵀ D B u_e with t = 1 m and the constant

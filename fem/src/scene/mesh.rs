@@ -83,7 +83,7 @@ pub(crate) fn mesh(
             "needs an [interface] section (the cohesive law of its facets)",
         ));
     }
-    if crack.is_some() != !roles.pre_crack.is_empty() {
+    if crack.is_some() == roles.pre_crack.is_empty() {
         return Err(inconsistent(
             "fem.mesh.pre_crack",
             "[crack] and fem.mesh.pre_crack go together: the mesh's pre-crack curve and the crack the \

@@ -40,6 +40,8 @@ mod fem_friction_sliding;
 #[cfg(feature = "fem")]
 mod fem_insertion_oscillations;
 #[cfg(feature = "fem")]
+mod fem_mesh_center_crack;
+#[cfg(feature = "fem")]
 mod fem_patch_test;
 #[cfg(feature = "fem")]
 mod fem_unstructured_waves;
