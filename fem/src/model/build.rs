@@ -7,12 +7,12 @@ use crate::mesh::interfaces::{FacetKind, InterfaceRow};
 use crate::mesh::nearest_node;
 use crate::mesh::structured::{Grid, GridSpec};
 use crate::model::bulk::{self, Stiffness};
+use crate::model::face_stress::FaceStress;
 use crate::model::loading;
 use crate::model::mapped::{GaussShape, MappedStiffness, Trapezoid};
 use crate::model::state::{
     BulkMesh, ContactPart, ElementNodes, EnergyTotals, Facets, GmshBulk, Model, State, Workspace,
 };
-use crate::model::stress::FaceStress;
 use crate::model::unstructured::UnstructuredBulk;
 use crate::scene::MeshSpec;
 use crate::scene::{ContactSurface, ModelKind, Scene, zone_of};
@@ -188,7 +188,7 @@ fn facet_faces(model: &Model) -> Vec<[FaceStress; 2]> {
         .map(|c| {
             let [ep, em] = row.face_edges[c];
             [(row.elem_plus[c], ep), (row.elem_minus[c], em)].map(|(e, edge)| {
-                crate::model::stress::face_of(
+                crate::model::face_stress::face_of(
                     &model.x0,
                     model.element_nodes(e as usize).as_slice(),
                     edge as usize,
@@ -263,9 +263,7 @@ fn workspace(model: &Model) -> Workspace {
         predicted: false,
         sweep: match model.grid() {
             Some(grid) => crate::model::layers::SweepBuffers::new(grid),
-            None => {
-                crate::model::layers::SweepBuffers::none(n.div_ceil(crate::solver::central_difference::CHUNK))
-            }
+            None => crate::model::layers::SweepBuffers::none(n.div_ceil(crate::model::layers::CHUNK)),
         },
     }
 }

@@ -7,6 +7,9 @@ use crate::mesh::structured::{Grid, LayerSide};
 /// of a workstation to share out, and the halo copies stay small (2 rows per band).
 pub(crate) const BAND: usize = 16;
 
+/// Nodes per chunk of the corrector on a Gmsh mesh (the grid's chunks are its layers).
+pub(crate) const CHUNK: usize = 1024;
+
 /// Layers whose nodes must keep u_{n+1}, v_{n+1} until after contact and insertion: the two
 /// layers of the interface and their neighbours (the insertion check reads the stresses of the
 /// elements next to the interface), the bottom and top layers, and every layer holding a

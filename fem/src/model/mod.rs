@@ -3,6 +3,7 @@
 pub mod build;
 pub(crate) mod bulk;
 pub mod cohesive;
+pub(crate) mod face_stress;
 pub(crate) mod insertion;
 pub(crate) mod layers;
 pub(crate) mod loading;

@@ -44,7 +44,7 @@ pub struct Model {
     pub(crate) cd: f64,
     pub(crate) iface: Option<InterfaceRow>,
     /// Stress sampling of the (+, −) elements of each interface facet (insertion checks).
-    pub(crate) facet_faces: Vec<[crate::model::stress::FaceStress; 2]>,
+    pub(crate) facet_faces: Vec<[crate::model::face_stress::FaceStress; 2]>,
     /// Cohesive laws: 0 = `[interface]`, k = `interface_zones[k − 1]`; empty without an interface.
     pub(crate) laws: Vec<LinearCohesive>,
     /// Law index of each facet of the interface row.

@@ -235,7 +235,7 @@ fn combine_tied(model: &Model, state: &State, ws: &mut Workspace) {
 fn corrector(model: &Model, state: &mut State, ws: &Workspace, dt: f64, fuse: bool) -> f64 {
     let (w, sides) = match model.grid() {
         Some(grid) => (grid.nx + 1, &grid.layer_side[..]),
-        None => (CHUNK, &[][..]),
+        None => (crate::model::layers::CHUNK, &[][..]),
     };
     let done = &ws.sweep.done;
     state
@@ -260,9 +260,6 @@ fn corrector(model: &Model, state: &mut State, ws: &Workspace, dt: f64, fuse: bo
         })
         .reduce(|| 0.0, f64::max)
 }
-
-/// Nodes per chunk of the corrector on a Gmsh mesh (the grid's chunks are its layers).
-pub(crate) const CHUNK: usize = 1024;
 
 /// One layer's arrays for the corrector.
 struct Nodes<'a> {
