@@ -359,6 +359,25 @@ impl UnstructuredMesh {
         })
     }
 
+    /// The named physical group, which must have dimension `dim`; `expected` says so in the
+    /// error (e.g. "an interface is a physical curve (dimension 1)").
+    pub fn group_of_dim(
+        &self,
+        name: &str,
+        dim: usize,
+        expected: &'static str,
+    ) -> Result<&PhysicalGroup, MeshError> {
+        let g = self.group(name)?;
+        if g.dim != dim {
+            return Err(MeshError::WrongDimension {
+                group: name.to_string(),
+                dim: g.dim,
+                expected,
+            });
+        }
+        Ok(g)
+    }
+
     /// Area of bulk element `e` [m²], positive for a counter-clockwise element.
     pub fn area(&self, e: usize) -> f64 {
         signed_area(&self.elements[e].nodes, &self.positions)
@@ -808,14 +827,7 @@ pub fn interface_chains(mesh: &UnstructuredMesh, group: &str) -> Result<Vec<Chai
 pub fn interface_chains_of(mesh: &UnstructuredMesh, groups: &[&str]) -> Result<Vec<Chain>, MeshError> {
     let mut lines = Vec::new();
     for &name in groups {
-        let g = mesh.group(name)?;
-        if g.dim != 1 {
-            return Err(MeshError::WrongDimension {
-                group: name.to_string(),
-                dim: g.dim,
-                expected: "an interface is a physical curve (dimension 1)",
-            });
-        }
+        let g = mesh.group_of_dim(name, 1, "an interface is a physical curve (dimension 1)")?;
         lines.extend(g.elements.iter().copied());
     }
     lines.sort_unstable();

@@ -27,7 +27,7 @@ pub struct MeshRoles {
 /// Which role's list named the group behind an error: `bulk`, `pre_crack` or `interface`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RoleError {
-    /// The role (`bulk`, `pre_crack`, `interface`), or `file` for the mesh as a whole.
+    /// The role (`bulk`, `pre_crack` or `interface`).
     pub role: &'static str,
     /// What is wrong.
     pub error: MeshError,
@@ -54,10 +54,9 @@ impl PreparedMesh {
     /// Interface-coordinate range [s₀, s₁] [m] of the pre-crack facets (`None`: none).
     pub fn pre_crack_extent(&self) -> Option<[f64; 2]> {
         let row = self.row.as_ref()?;
-        let pre: Vec<usize> = (0..row.num_facets())
-            .filter(|&c| row.kind[c] == FacetKind::PreCrack)
-            .collect();
-        Some([row.coord[*pre.first()?], row.coord[*pre.last()? + 1]])
+        let pre = |c: &FacetKind| *c == FacetKind::PreCrack;
+        let (first, last) = (row.kind.iter().position(pre)?, row.kind.iter().rposition(pre)?);
+        Some([row.coord[first], row.coord[last + 1]])
     }
 
     /// The largest |y| [m] of the pre-crack's nodes (0 on a crack along y = 0).
@@ -80,14 +79,9 @@ impl PreparedMesh {
     /// Nodes of the physical curve `name` and, per node, its tributary length [m] (half of each
     /// adjacent line element of the group).
     pub fn curve_nodes(&self, name: &str) -> Result<(Vec<u32>, Vec<f64>), MeshError> {
-        let g = self.mesh.group(name)?;
-        if g.dim != 1 {
-            return Err(MeshError::WrongDimension {
-                group: name.to_string(),
-                dim: g.dim,
-                expected: "a boundary part is a physical curve (dimension 1)",
-            });
-        }
+        let g = self
+            .mesh
+            .group_of_dim(name, 1, "a boundary part is a physical curve (dimension 1)")?;
         let mut weight = vec![0.0; g.nodes.len()];
         for &l in &g.elements {
             let [a, b] = self.mesh.lines[l].nodes;
@@ -111,17 +105,12 @@ pub fn prepare(mesh: UnstructuredMesh, roles: &MeshRoles) -> Result<PreparedMesh
     let mut curves: Vec<&str> = Vec::new();
     for (key, names) in [("pre_crack", &roles.pre_crack), ("interface", &roles.interface)] {
         for name in names {
-            let g = mesh.group(name).map_err(role(key))?;
-            if g.dim != 1 {
-                return Err(RoleError {
-                    role: key,
-                    error: MeshError::WrongDimension {
-                        group: name.clone(),
-                        dim: g.dim,
-                        expected: "a crack or an interface is a physical curve (dimension 1)",
-                    },
-                });
-            }
+            mesh.group_of_dim(
+                name,
+                1,
+                "a crack or an interface is a physical curve (dimension 1)",
+            )
+            .map_err(role(key))?;
             curves.push(name);
         }
     }
@@ -201,14 +190,7 @@ fn check_bulk(mesh: &UnstructuredMesh, bulk: &[String]) -> Result<(), MeshError>
     }
     let mut covered = vec![false; mesh.elements.len()];
     for name in bulk {
-        let g = mesh.group(name)?;
-        if g.dim != 2 {
-            return Err(MeshError::WrongDimension {
-                group: name.clone(),
-                dim: g.dim,
-                expected: "a bulk region is a physical surface (dimension 2)",
-            });
-        }
+        let g = mesh.group_of_dim(name, 2, "a bulk region is a physical surface (dimension 2)")?;
         for &e in &g.elements {
             covered[e] = true;
         }

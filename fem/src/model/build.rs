@@ -36,9 +36,6 @@ pub(crate) struct MeshParts {
     pub mass: Vec<f64>,
     pub iface: Option<InterfaceRow>,
     pub boundary: loading::BoundaryData,
-    pub crack: Option<(f64, f64)>,
-    /// Per grid layer: kept out of the sweep (empty on a Gmsh mesh).
-    pub deferred: Vec<bool>,
 }
 
 /// As [`build`], with the interface row (y = 0) mapped onto y = f(x) [m] (paper Section 4 meshes).
@@ -53,9 +50,6 @@ pub fn build_with_row_map(
     let crack = scene.crack.map(|c| (c.center_x, c.half_length));
     let iface = InterfaceRow::new(&grid, crack, scene.interface.is_some());
     let boundary = loading::boundary(scene, &grid);
-    let fixed = fixed_dofs(grid.num_nodes(), &boundary);
-    let neumann_nodes: Vec<u32> = boundary.neumann.iter().map(|p| p.node).collect();
-    let deferred = crate::model::layers::deferred_layers(&grid, &fixed, &neumann_nodes);
     assemble(
         scene,
         MeshParts {
@@ -64,8 +58,6 @@ pub fn build_with_row_map(
             mass,
             iface,
             boundary,
-            crack,
-            deferred,
         },
     )
 }
@@ -88,19 +80,8 @@ fn build_on_mesh(scene: &Scene, spec: &MeshSpec) -> Result<(Model, State, Worksp
             mesh: BulkMesh::Gmsh(Box::new(GmshBulk { kernel, elements })),
             iface: p.row.clone(),
             boundary: loading::boundary_on_mesh(scene, p),
-            crack: scene.crack.map(|c| (c.center_x, c.half_length)),
-            deferred: Vec::new(),
         },
     )
-}
-
-/// Per node and component: prescribed by the boundary data.
-fn fixed_dofs(nodes: usize, bd: &loading::BoundaryData) -> Vec<[bool; 2]> {
-    let mut fixed_dof = vec![[false; 2]; nodes];
-    for p in &bd.prescribed {
-        fixed_dof[p.node as usize][p.dof as usize] = true;
-    }
-    fixed_dof
 }
 
 /// The model from its mesh parts and the scene's options, with its initial state and workspace.
@@ -112,17 +93,26 @@ pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State,
         mass,
         iface,
         boundary: bd,
-        crack,
-        deferred,
     } = parts;
-    let fixed_dof = fixed_dofs(x0.len(), &bd);
+    let mut fixed_dof = vec![[false; 2]; x0.len()];
+    for p in &bd.prescribed {
+        fixed_dof[p.node as usize][p.dof as usize] = true;
+    }
+    // the layers the grid's one-pass sweep leaves to the corrector (a Gmsh mesh has no sweep)
+    let deferred = match &mesh {
+        BulkMesh::Grid { grid, .. } => {
+            let neumann_nodes: Vec<u32> = bd.neumann.iter().map(|p| p.node).collect();
+            crate::model::layers::deferred_layers(grid, &fixed_dof, &neumann_nodes)
+        }
+        BulkMesh::Gmsh(_) => Vec::new(),
+    };
     let probes = f
         .probes
         .iter()
         .map(|p| nearest_node(&x0, Vector2::new(p[0], p[1])) as u32)
         .collect();
     let centres: Vec<f64> = facet_centres(&iface).collect();
-    let model = Model {
+    let mut model = Model {
         deferred,
         mesh,
         d: scene.material.d_matrix(),
@@ -165,14 +155,13 @@ pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State,
         neumann: bd.neumann,
         fixed_dof,
         probes,
-        crack,
+        crack: scene.crack.map(|c| (c.center_x, c.half_length)),
         lateral_contraction: f.lateral_contraction,
         diagnostics: f.diagnostics.clone(),
         iface,
         facet_faces: Vec::new(),
         x0,
     };
-    let mut model = model;
     model.facet_faces = facet_faces(&model);
     let state = initial_state(&model);
     let ws = workspace(&model);

@@ -6,7 +6,7 @@
 use crate::mesh::interfaces::InterfaceRow;
 use crate::model::bulk;
 use crate::model::face_stress::{FaceStress, face_of};
-use crate::model::state::{BulkMesh, Model};
+use crate::model::state::Model;
 use nalgebra::Vector2;
 
 /// Which element of a facet.
@@ -49,31 +49,17 @@ pub(crate) fn facet_side<const N: usize>(
 /// Reference centroid [m] of element e and its mean stress [σ_xx, σ_yy, σ_xy] [Pa]: the mean of
 /// the four Gauss-point stresses of a Q4, the constant stress of a T3.
 pub(crate) fn element_mean(model: &Model, e: usize, u: &[Vector2<f64>]) -> (Vector2<f64>, [f64; 3]) {
+    let nodes = model.element_nodes(e);
+    let nodes = nodes.as_slice();
+    let centre = nodes.iter().map(|&n| model.x0[n as usize]).sum::<Vector2<f64>>() / nodes.len() as f64;
     let ue = element_displacements(model, e, u);
-    match &model.mesh {
-        BulkMesh::Grid { grid, .. } => {
-            let c = grid.element_coords(e);
-            let centre = (c[0] + c[1] + c[2] + c[3]) / 4.0;
-            let sig = bulk::gauss_stresses(&bulk::gauss_gradients(&c), &model.d, &ue);
-            (
-                centre,
-                [0, 1, 2].map(|p| sig.iter().map(|q| q[p]).sum::<f64>() / 4.0),
-            )
+    let face = face_of(&model.x0, nodes, 0);
+    let sig = match face {
+        FaceStress::T3 { .. } => face.sample(&model.d, &ue, [0.0])[0],
+        FaceStress::Q4 { grads, .. } => {
+            let sig = bulk::gauss_stresses(&grads, &model.d, &ue);
+            [0, 1, 2].map(|p| sig.iter().map(|q| q[p]).sum::<f64>() / 4.0)
         }
-        BulkMesh::Gmsh(_) => {
-            let nodes = model.element_nodes(e);
-            let nodes = nodes.as_slice();
-            let centre =
-                nodes.iter().map(|&n| model.x0[n as usize]).sum::<Vector2<f64>>() / nodes.len() as f64;
-            let face = face_of(&model.x0, nodes, 0);
-            let sig = match face {
-                FaceStress::T3 { .. } => face.sample(&model.d, &ue, [0.0])[0],
-                FaceStress::Q4 { grads, .. } => {
-                    let sig = bulk::gauss_stresses(&grads, &model.d, &ue);
-                    [0, 1, 2].map(|p| sig.iter().map(|q| q[p]).sum::<f64>() / 4.0)
-                }
-            };
-            (centre, sig)
-        }
-    }
+    };
+    (centre, sig)
 }

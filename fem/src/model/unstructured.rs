@@ -131,23 +131,21 @@ impl UnstructuredBulk {
         }
         let x = &mesh.positions;
 
-        // validity, masses, h_min
+        // validity and masses
         let mut mass = vec![0.0; nn];
-        let mut h_min = f64::INFINITY;
         for el in &mesh.elements {
             let inverted = |det_j: f64| UnstructuredError::InvertedElement {
                 element: el.tag,
                 det_j,
             };
-            let (area, m) = match el.kind {
+            let m = match el.kind {
                 ElementKind::T3 => {
                     let c = [x[el.nodes[0]], x[el.nodes[1]], x[el.nodes[2]]];
                     let two_a = (c[1] - c[0]).perp(&(c[2] - c[0]));
                     if two_a <= 0.0 || !two_a.is_finite() {
                         return Err(inverted(two_a));
                     }
-                    let area = 0.5 * two_a;
-                    (area, vec![density * area / 3.0; 3])
+                    vec![density * (0.5 * two_a) / 3.0; 3]
                 }
                 ElementKind::Q4 => {
                     let c = [x[el.nodes[0]], x[el.nodes[1]], x[el.nodes[2]], x[el.nodes[3]]];
@@ -158,15 +156,14 @@ impl UnstructuredBulk {
                             return Err(inverted(det));
                         }
                     }
-                    let area = 0.5 * ((c[2] - c[0]).perp(&(c[3] - c[1])));
-                    (area, bulk::lumped_mass(&c, density).to_vec())
+                    bulk::lumped_mass(&c, density).to_vec()
                 }
             };
             for (&a, ma) in el.nodes.iter().zip(m) {
                 mass[a] += ma;
             }
-            h_min = h_min.min(element_length(el.kind, area, &el.nodes, x));
         }
+        let h_min = min_element_length(mesh);
 
         // the kernel's element order: by lowest node, then mesh index (elements that share nodes
         // end up close together, whatever order the mesh file has them in)
@@ -661,34 +658,23 @@ fn gauss_point(
     )
 }
 
-/// The element's length of the stable step [m]: T3 2A/ℓ_max, Q4 A/ℓ_max (see
-/// [`UnstructuredBulk::min_length`]).
-/// The smallest element length h_min [m] of `mesh` ([`UnstructuredBulk::min_length`] of the kernel
-/// built on it), without building the kernel; ∞ for a mesh without elements.
+/// The smallest element length h_min [m] of `mesh` ([`UnstructuredBulk::min_length`]): per
+/// element 2A/ℓ_max for a T3 and A/ℓ_max for a Q4 (ℓ_max its longest edge); ∞ for a mesh without
+/// elements.
 pub fn min_element_length(mesh: &UnstructuredMesh) -> f64 {
     let x = &mesh.positions;
     mesh.elements
         .iter()
         .map(|el| {
             let c = |k: usize| x[el.nodes[k]];
-            let area = match el.kind {
-                ElementKind::T3 => 0.5 * (c(1) - c(0)).perp(&(c(2) - c(0))),
-                ElementKind::Q4 => 0.5 * ((c(2) - c(0)).perp(&(c(3) - c(1)))),
-            };
-            element_length(el.kind, area, &el.nodes, x)
+            let n = el.nodes.len();
+            let longest = (0..n).map(|k| (c((k + 1) % n) - c(k)).norm()).fold(0.0, f64::max);
+            match el.kind {
+                ElementKind::T3 => (c(1) - c(0)).perp(&(c(2) - c(0))) / longest,
+                ElementKind::Q4 => 0.5 * ((c(2) - c(0)).perp(&(c(3) - c(1)))) / longest,
+            }
         })
         .fold(f64::INFINITY, f64::min)
-}
-
-fn element_length(kind: ElementKind, area: f64, nodes: &[usize], x: &[Vector2<f64>]) -> f64 {
-    let n = nodes.len();
-    let longest = (0..n)
-        .map(|k| (x[nodes[(k + 1) % n]] - x[nodes[k]]).norm())
-        .fold(0.0, f64::max);
-    match kind {
-        ElementKind::T3 => 2.0 * area / longest,
-        ElementKind::Q4 => area / longest,
-    }
 }
 
 #[cfg(test)]

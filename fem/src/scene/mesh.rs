@@ -94,10 +94,14 @@ pub(crate) fn mesh(
         .map_err(|e| inconsistent("fem.mesh.file", e.to_string()))?;
     let prepared = prepare(mesh, &roles)
         .map_err(|e| inconsistent(format!("fem.mesh.{}", e.role), e.error.to_string()))?;
+    // the interface's shortest and mean facet (the smallest element without an interface)
+    let (shortest, mean) = prepared
+        .facet_lengths()
+        .unwrap_or((prepared.h_min, prepared.h_min));
     if let (Some(c), Some([s0, s1])) = (crack, prepared.pre_crack_extent()) {
         // the mesh's coordinates are printed to 16 digits: a crack that is meant to match does
         // to far better than a millionth of a facet
-        let tol = 1e-6 * prepared.facet_lengths().map_or(prepared.h_min, |(_, mean)| mean);
+        let tol = 1e-6 * mean;
         let (a, b) = (c.center_x - c.half_length, c.center_x + c.half_length);
         if (s0 - a).abs() > tol || (s1 - b).abs() > tol {
             return Err(inconsistent(
@@ -112,11 +116,9 @@ pub(crate) fn mesh(
     let b = prepared.bbox;
     effective.x_range = b[0];
     effective.y_range = b[1];
-    effective.element_size = prepared.facet_lengths().map_or(prepared.h_min, |(_, mean)| mean);
-    if effective.max_gap.is_none() {
-        // the paper's detection distance: the smallest element size along the interface
-        effective.max_gap = Some(prepared.facet_lengths().map_or(prepared.h_min, |(min, _)| min));
-    }
+    effective.element_size = mean;
+    // the paper's detection distance: the smallest element size along the interface
+    effective.max_gap = effective.max_gap.or(Some(shortest));
     Ok(Some((
         MeshSpec {
             file,
