@@ -11,7 +11,7 @@
 use crate::gmsh::{Chain, MeshError, UnstructuredMesh, interface_chains_of, split_interface};
 use crate::mesh::interfaces::{FacetKind, InterfaceRow};
 use nalgebra::Vector2;
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 
 /// The roles of the mesh's physical groups, by name as the scene gives them.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -46,6 +46,9 @@ pub struct PreparedMesh {
     pub(crate) row: Option<InterfaceRow>,
     /// Smallest element length of the stable step [m].
     pub h_min: f64,
+    /// Per facet of the interface row: the index in `MeshRoles::interface` of the curve it lies
+    /// on (`u16::MAX` on the pre-crack).
+    pub facet_curve: Vec<u16>,
     /// Bounding box [[x_min, x_max], [y_min, y_max]] [m].
     pub bbox: [[f64; 2]; 2],
 }
@@ -125,6 +128,7 @@ pub fn prepare(mesh: UnstructuredMesh, roles: &MeshRoles) -> Result<PreparedMesh
             plus: vec![false; n],
             row: None,
             h_min,
+            facet_curve: Vec::new(),
             bbox,
         });
     }
@@ -161,6 +165,17 @@ pub fn prepare(mesh: UnstructuredMesh, roles: &MeshRoles) -> Result<PreparedMesh
         .iter()
         .flat_map(|name| mesh.groups[name].elements.iter().copied())
         .collect();
+    let mut curve_of_line: HashMap<usize, u16> = HashMap::new();
+    for (k, name) in roles.interface.iter().enumerate() {
+        for &l in &mesh.groups[name].elements {
+            curve_of_line.insert(l, k as u16);
+        }
+    }
+    let facet_curve = chain
+        .segments
+        .iter()
+        .map(|s| curve_of_line.get(&s.line).copied().unwrap_or(u16::MAX))
+        .collect();
     let split = split_interface(&mesh, std::slice::from_ref(&chain)).map_err(role(key))?;
     let n = split.mesh.positions.len();
     let mut outer = outer_before;
@@ -179,6 +194,7 @@ pub fn prepare(mesh: UnstructuredMesh, roles: &MeshRoles) -> Result<PreparedMesh
         plus,
         row: Some(row),
         h_min,
+        facet_curve,
         bbox,
     })
 }

@@ -2,7 +2,7 @@
 
 use crate::contact::{ContactParams, ContactState, ContactWorkspace, DetectionSurface};
 use crate::error::BuildError;
-use crate::law::cohesive::{ClosingTreatment, CohesiveState};
+use crate::law::cohesive::{ClosingTreatment, CohesiveState, LinearCohesive};
 use crate::mesh::interfaces::{FacetKind, InterfaceRow};
 use crate::mesh::nearest_node;
 use crate::mesh::structured::{Grid, GridSpec};
@@ -111,7 +111,7 @@ pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State,
         .iter()
         .map(|p| nearest_node(&x0, Vector2::new(p[0], p[1])) as u32)
         .collect();
-    let centres: Vec<f64> = facet_centres(&iface).collect();
+    let (laws, facet_law) = facet_laws(scene, &iface);
     let mut model = Model {
         deferred,
         mesh,
@@ -119,22 +119,15 @@ pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State,
         mass,
         dt: scene.time_step(),
         cd: scene.wave_speeds().cd,
-        laws: scene.interface.map_or(Vec::new(), |l| {
-            std::iter::once(l)
-                .chain(f.interface_zones.iter().map(|z| z.law))
-                .collect()
-        }),
-        facet_law: centres
+        facet_detect: facet_law
             .iter()
-            .map(|&x| zone_of(&f.interface_zones, x) as u8)
-            .collect(),
-        facet_detect: centres
-            .iter()
-            .map(|&x| match f.contact_surface {
+            .map(|&k| match f.contact_surface {
                 ContactSurface::All => true,
-                ContactSurface::Zones => zone_of(&f.interface_zones, x) > 0,
+                ContactSurface::Zones => k > 0,
             })
             .collect(),
+        laws,
+        facet_law,
         closing: match f.model {
             ModelKind::Hybrid => ClosingTreatment::Hybrid,
             ModelKind::Standard => ClosingTreatment::Standard { eps_n: f.eps_n },
@@ -185,6 +178,43 @@ fn facet_faces(model: &Model) -> Vec<[FaceStress; 2]> {
             })
         })
         .collect()
+}
+
+/// The cohesive laws (0: `[interface]`, then `[[fem.interface_zones]]`, then the curves of
+/// `[fem.mesh.laws]`; none without an interface) and the law of each facet of the interface row:
+/// its curve's on a mesh with curve laws, else the zone holding its midpoint's coordinate.
+fn facet_laws(scene: &Scene, iface: &Option<InterfaceRow>) -> (Vec<LinearCohesive>, Vec<u8>) {
+    let f = &scene.fem;
+    let Some(base) = scene.interface else {
+        return (Vec::new(), vec![0; iface.as_ref().map_or(0, |r| r.num_facets())]);
+    };
+    let mut laws: Vec<LinearCohesive> = std::iter::once(base)
+        .chain(f.interface_zones.iter().map(|z| z.law))
+        .collect();
+    let curve_laws = f.mesh.as_ref().filter(|m| m.laws.iter().any(Option::is_some));
+    let facet_law = match (curve_laws, iface) {
+        (Some(m), Some(_)) => {
+            let index: Vec<u8> = m
+                .laws
+                .iter()
+                .map(|l| {
+                    l.map_or(0, |l| {
+                        laws.push(l);
+                        (laws.len() - 1) as u8
+                    })
+                })
+                .collect();
+            m.prepared
+                .facet_curve
+                .iter()
+                .map(|&k| index.get(k as usize).copied().unwrap_or(0))
+                .collect()
+        }
+        _ => facet_centres(iface)
+            .map(|x| zone_of(&f.interface_zones, x) as u8)
+            .collect(),
+    };
+    (laws, facet_law)
 }
 
 /// Interface coordinate [m] of each facet midpoint of the interface row (none without a row):

@@ -137,13 +137,18 @@ pub(crate) fn zones_and_surface(f: &RawFem) -> Result<(Vec<InterfaceZone>, Conta
         f.contact_surface.as_ref(),
         ContactSurface::All,
         &[("all", ContactSurface::All), ("zones", ContactSurface::Zones)],
-        "\"all\" or \"zones\" (needs fem.interface_zones)",
+        "\"all\" or \"zones\" (needs fem.interface_zones or fem.mesh.laws)",
     )?;
-    if surface == ContactSurface::Zones && zones.is_empty() {
+    let curve_laws = f
+        .mesh
+        .as_ref()
+        .and_then(|m| m.laws.as_ref())
+        .is_some_and(|l| !l.is_empty());
+    if surface == ContactSurface::Zones && zones.is_empty() && !curve_laws {
         return Err(SceneError::BadOption {
             field: "fem.contact_surface".to_string(),
             value: "zones".to_string(),
-            allowed: "\"zones\" only with fem.interface_zones",
+            allowed: "\"zones\" only with fem.interface_zones or fem.mesh.laws",
         });
     }
     Ok((zones, surface))

@@ -2,10 +2,11 @@
 //! is read, its groups given their roles and its interface split here, during validation, so that
 //! a missing group or a bad mesh is reported before any work (docs/scenes.md, "[fem.mesh]").
 
-use super::checks::inconsistent;
+use super::checks::{check, inconsistent};
 use super::problem::Crack;
 use super::raw::{RawFem, RawMesh};
 use crate::error::SceneError;
+use crate::law::cohesive::LinearCohesive;
 use crate::mesh::prepared::{MeshRoles, PreparedMesh, prepare};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -19,11 +20,14 @@ pub struct MeshSpec {
     pub roles: MeshRoles,
     /// The mesh read, checked and split along its interface (shared by every variant of the scene).
     pub prepared: Arc<PreparedMesh>,
+    /// Per interface curve (in the order of `roles.interface`): its own cohesive law, or `None`
+    /// for the `[interface]` law.
+    pub laws: Vec<Option<LinearCohesive>>,
 }
 
 impl PartialEq for MeshSpec {
     fn eq(&self, other: &Self) -> bool {
-        self.file == other.file && self.roles == other.roles
+        self.file == other.file && self.roles == other.roles && self.laws == other.laws
     }
 }
 
@@ -77,6 +81,7 @@ pub(crate) fn mesh(
         ));
     }
     let (file, roles) = roles(m, base_dir)?;
+    let laws = curve_laws(f, m, &roles)?;
     if !roles.interface.is_empty() && !cohesive {
         return Err(inconsistent(
             "fem.mesh.interface",
@@ -124,6 +129,7 @@ pub(crate) fn mesh(
             file,
             roles,
             prepared: Arc::new(prepared),
+            laws,
         },
         effective,
     )))
@@ -151,4 +157,50 @@ fn roles(m: &RawMesh, base_dir: Option<&Path>) -> Result<(PathBuf, MeshRoles), S
             interface: list(&m.interface),
         },
     ))
+}
+
+/// `[fem.mesh.laws]`: a cohesive law per interface curve, by the curve's name; the other curves
+/// keep the `[interface]` law. Not with `[[fem.interface_zones]]` (two ways to say the same).
+fn curve_laws(f: &RawFem, m: &RawMesh, roles: &MeshRoles) -> Result<Vec<Option<LinearCohesive>>, SceneError> {
+    let mut out = vec![None; roles.interface.len()];
+    let Some(laws) = &m.laws else {
+        return Ok(out);
+    };
+    if !laws.is_empty() && f.interface_zones.as_ref().is_some_and(|z| !z.is_empty()) {
+        return Err(inconsistent(
+            "fem.mesh.laws",
+            "give the interface curves their laws here or stretches of the interface in \
+             [[fem.interface_zones]], not both",
+        ));
+    }
+    // the model indexes its laws with a byte: [interface] and up to 254 others
+    if laws.len() > 254 {
+        return Err(inconsistent(
+            "fem.mesh.laws",
+            format!("{} laws given; at most 254", laws.len()),
+        ));
+    }
+    for (name, raw) in laws {
+        let key = |field: &str| format!("fem.mesh.laws.{name}.{field}");
+        let Some(k) = roles.interface.iter().position(|c| c == name) else {
+            return Err(inconsistent(
+                format!("fem.mesh.laws.{name}"),
+                format!(
+                    "names no curve of fem.mesh.interface ({})",
+                    roles.interface.join(", ")
+                ),
+            ));
+        };
+        check(key("sigma_c"), raw.sigma_c, raw.sigma_c > 0.0, "> 0 Pa")?;
+        check(key("delta_c"), raw.delta_c, raw.delta_c > 0.0, "> 0 m")?;
+        check(key("beta"), raw.beta, raw.beta > 0.0, "> 0")?;
+        check(key("kappa"), raw.kappa, raw.kappa > 0.0, "> 0")?;
+        out[k] = Some(LinearCohesive {
+            sigma_c: raw.sigma_c,
+            delta_c: raw.delta_c,
+            beta: raw.beta,
+            kappa: raw.kappa,
+        });
+    }
+    Ok(out)
 }

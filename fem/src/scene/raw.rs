@@ -146,6 +146,8 @@ pub(crate) struct RawMesh {
     pub bulk: Option<Vec<String>>,
     pub pre_crack: Option<Vec<String>>,
     pub interface: Option<Vec<String>>,
+    /// Per interface curve, by name: its own cohesive law.
+    pub laws: Option<std::collections::BTreeMap<String, RawInterface>>,
 }
 
 /// `[fem.paraview]`: ParaView field snapshots.
