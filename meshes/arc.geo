@@ -1,6 +1,6 @@
 // Rectangle 2 m x 1 m meshed with linear triangles (T3), cut by a circular-arc interface.
 // - "interface": the arc of centre (1, -1.1) m through (0, 0.4) m and (2, 0.4) m, so of radius
-//   R = sqrt(1 + 1.5^2) m = 1.80278 m, apex at y = 0.70278 m and length 2 R asin(1/R) = 2.1129 m;
+//   R = sqrt(1 + 1.5^2) m = 1.80278 m, apex at y = 0.70278 m and length 2 R asin(1/R) = 2.12007 m;
 //   oriented from x = 0 to x = 2 (the + side, left of that direction, is the part above the arc).
 // - "bulk": both surfaces; "bottom", "top", "left", "right": the outer boundary.
 h = 0.1;
