@@ -34,7 +34,7 @@ struct Cli {
 #[derive(Debug, Args)]
 struct Common {
     /// Scene file (default: scenes/center-crack.toml; scenes/sinusoidal-interface.toml for
-    /// `sinusoid`).
+    /// `sinusoid`, scenes/rough-interface.toml for `rough`).
     #[arg(long, global = true, value_name = "FILE")]
     scene: Option<PathBuf>,
     /// Output folder (default: out/<scene file name>[-<job>]/).
@@ -93,6 +93,10 @@ enum Job {
     /// Paper Section 4: the standard against the hybrid model on the sinusoidal interface, every
     /// model of [compare].models; exits non-zero if a run goes unstable (its output is kept).
     Sinusoid,
+    /// Paper Section 5 outlook: the same study on a self-affine rough weak interface
+    /// (fem.interface_rough), standard against hybrid model, with the same metrics, CSVs and
+    /// figures; exits non-zero if a run goes unstable (its output is kept).
+    Rough,
     /// One point of a sweep in this process (what `sweep` runs in its children and the lines of
     /// an emitted jobs.txt run): prints the point as CSV on stdout, or writes it to --result.
     #[command(hide = true)]
@@ -256,6 +260,7 @@ fn real_main() -> Result<bool> {
     }
     let file = match cli.job {
         Some(Job::Sinusoid) => "sinusoidal-interface.toml",
+        Some(Job::Rough) => "rough-interface.toml",
         _ => "center-crack.toml",
     };
     let scene_path = cli.common.scene.unwrap_or_else(|| default_scene(file));
@@ -326,7 +331,7 @@ fn real_main() -> Result<bool> {
             println!("\n{} files written to {}", report.files.len(), dir.display());
             Ok(true)
         }
-        Some(Job::Sinusoid) => {
+        Some(Job::Sinusoid | Job::Rough) => {
             let dir = out("");
             let report = compare::sinusoid::run_study(&study, &dir, &bars)?;
             print!("{}", compare::sinusoid::table(&report.rows, &report.setup));

@@ -11,6 +11,7 @@ mod mesh;
 mod paraview;
 mod problem;
 mod raw;
+mod rough;
 
 pub use boundary::{BoundaryComponent, BoundaryKind, BoundarySpec};
 pub use damping::{Damping, DampingRate, DampingSet};

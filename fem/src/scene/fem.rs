@@ -11,6 +11,7 @@ use super::mesh::{MeshSpec, mesh};
 use super::paraview::{ParaviewSpec, paraview};
 use super::problem::Crack;
 use super::raw::RawFem;
+use super::rough::{Rough, rough, rough_polyline};
 use crate::error::SceneError;
 
 /// Largest allowed safety factor α of the stable step (docs/fem-model.md §2, §10.10).
@@ -179,9 +180,12 @@ pub(crate) fn validate_fem(
     let diagnostics = keep(errors, diagnostics(f, duration));
     let probes = keep(errors, probes(f));
     let paraview = keep(errors, paraview(f, duration));
-    let polyline = match (geometry_ok, &blocks, &mesh) {
-        (true, Some((upper_offset, _)), None) => keep(errors, interface_row(f, crack, *upper_offset)),
-        (true, Some(_), Some(_)) => Some(None),
+    let rough = rough(f, errors);
+    let polyline = match (geometry_ok, &blocks, &mesh, rough) {
+        (true, Some((upper_offset, _)), None, Some(rough)) => {
+            keep(errors, interface_row(f, crack, *upper_offset, rough.as_ref()))
+        }
+        (true, Some(_), Some(_), _) => Some(None),
         _ => None,
     };
     if errors.len() > before {
@@ -256,22 +260,24 @@ fn mesh_boundary(f: &RawFem, crack: Option<&Crack>, m: &MeshSpec) -> Result<(), 
     Ok(())
 }
 
-/// The interface row's path: the sine of `interface_sine` sampled at the node columns, or the
-/// user's `interface_polyline`, or flat.
+/// The interface row's path: the sine of `interface_sine` or the self-affine profile of
+/// `interface_rough` (its fields checked already) sampled at the node columns, or the user's
+/// `interface_polyline`, or flat.
 fn interface_row(
     f: &RawFem,
     crack: Option<&Crack>,
     upper_offset: f64,
+    rough: Option<&Rough>,
 ) -> Result<Option<Vec<[f64; 2]>>, SceneError> {
-    match &f.interface_sine {
-        Some(s) => {
-            let center = crack.map_or(0.0, |c| c.center_x);
-            let mut g = RawFem::clone(f);
-            g.interface_polyline = Some(sine_polyline(f, s, center)?);
-            polyline(&g, upper_offset, "fem.interface_sine.amplitude")
-        }
-        None => polyline(f, upper_offset, "fem.interface_polyline"),
-    }
+    let center = crack.map_or(0.0, |c| c.center_x);
+    let (path, key) = match (&f.interface_sine, rough) {
+        (Some(s), _) => (sine_polyline(f, s, center)?, "fem.interface_sine.amplitude"),
+        (None, Some(r)) => (rough_polyline(f, r, center)?, "fem.interface_rough.rms_slope"),
+        (None, None) => return polyline(f, upper_offset, "fem.interface_polyline"),
+    };
+    let mut g = RawFem::clone(f);
+    g.interface_polyline = Some(path);
+    polyline(&g, upper_offset, key)
 }
 
 /// The string options: model and insertion rule.

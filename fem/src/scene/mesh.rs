@@ -32,13 +32,14 @@ impl PartialEq for MeshSpec {
 }
 
 /// The `[fem]` keys that describe a built-in grid, refused with a mesh (the file is the geometry).
-const GRID_KEYS: [&str; 6] = [
+const GRID_KEYS: [&str; 7] = [
     "x_range",
     "y_range",
     "element_size",
     "upper_offset",
     "interface_polyline",
     "interface_sine",
+    "interface_rough",
 ];
 
 /// Validates `[fem.mesh]` (`None`: the scene uses the built-in grid) and returns it with the
@@ -73,6 +74,7 @@ pub(crate) fn mesh(
         f.upper_offset.is_some(),
         f.interface_polyline.is_some(),
         f.interface_sine.is_some(),
+        f.interface_rough.is_some(),
     ];
     if let Some(k) = given.iter().position(|&g| g) {
         return Err(inconsistent(

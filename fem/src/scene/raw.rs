@@ -118,6 +118,7 @@ pub(crate) struct RawFem {
     pub upper_offset: Option<f64>,
     pub interface_polyline: Option<Vec<[f64; 2]>>,
     pub interface_sine: Option<RawSine>,
+    pub interface_rough: Option<RawRough>,
     pub interface_zones: Option<Vec<RawZone>>,
     pub contact_surface: Option<String>,
     pub contact_friction: Option<String>,
@@ -163,6 +164,20 @@ pub(crate) struct RawSine {
     pub half_period: f64,
     pub from: f64,
     pub to: f64,
+}
+
+/// `fem.interface_rough`: a self-affine profile (`scene/rough.rs`). The seed is read as a signed
+/// TOML integer so that a negative one is reported naming its key, not as a type error.
+#[derive(Debug, Clone, Copy, Deserialize)]
+pub(crate) struct RawRough {
+    pub hurst: f64,
+    pub rms_slope: f64,
+    pub seed: i64,
+    pub from: f64,
+    pub to: f64,
+    pub wavelength_min: f64,
+    pub wavelength_max: f64,
+    pub taper: Option<f64>,
 }
 
 #[derive(Debug, Clone, Copy, Deserialize)]

@@ -54,6 +54,10 @@ mod fem_wave_speeds;
 #[cfg(feature = "fem")]
 mod fem_sinusoid;
 
+// ---- beyond the paper: its Section 5 outlook ----
+#[cfg(feature = "fem")]
+mod fem_rough;
+
 // ---- FE against spectral, and the FE model at its extremes ----
 #[cfg(all(feature = "fem", feature = "spectral"))]
 mod compare_converged;
