@@ -315,3 +315,59 @@ fn row_of(
     row.col_facets = column_facets(row.minus.len(), &row.ends);
     row
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn prepared(file: &str, interface: &[&str]) -> PreparedMesh {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../meshes")
+            .join(file);
+        let roles = MeshRoles {
+            interface: interface.iter().map(|s| s.to_string()).collect(),
+            ..MeshRoles::default()
+        };
+        prepare(UnstructuredMesh::read(&path).unwrap(), &roles).unwrap()
+    }
+
+    #[test]
+    fn two_disjoint_chains_share_one_row_but_no_facet() {
+        let p = prepared("two-chains.msh", &["left_cut", "right_cut"]);
+        let row = p.row.as_ref().unwrap();
+        assert_eq!(row.num_chains(), 2);
+        for c in 0..row.num_facets() {
+            let [a, b] = row.facet_columns(c);
+            assert_eq!((b, row.chain[a]), (a + 1, row.chain[b]), "facet {c}");
+        }
+        // each chain starts at its end with the smaller x, measured from that x
+        let first = |k: u16| row.chain.iter().position(|&c| c == k).unwrap();
+        assert_eq!(row.coord[first(0)], 0.0);
+        assert!((row.coord[first(1)] - 1.2).abs() < 1e-12);
+        // a chain's last column ends its last facet and starts none
+        let last0 = first(1) - 1;
+        assert_eq!(row.column_facets(last0).count(), 1);
+        assert!((row.facet_span(last0 - 1)[1] - 0.58f64.sqrt()).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_closed_chain_runs_counter_clockwise_and_closes_on_its_first_column() {
+        let p = prepared("inclusion.msh", &["interface"]);
+        let row = p.row.as_ref().unwrap();
+        let (m, nf) = (row.minus.len(), row.num_facets());
+        assert_eq!((row.num_chains(), m), (1, nf));
+        assert_eq!(row.ends[nf - 1], [(m - 1) as u32, 0]);
+        assert!((0..m).all(|i| row.column_facets(i).count() == 2));
+        // from the leftmost node (0.6, 1) m, counter-clockwise: the first facet goes down and the
+        // + side, on the left of the direction, is inside (toward the centre (1, 1) m)
+        let x = &p.mesh.positions;
+        assert!((x[row.minus[0] as usize] - Vector2::new(0.6, 1.0)).norm() < 1e-12);
+        assert!(x[row.minus[1] as usize].y < 1.0);
+        assert!(row.normal[0].x > 0.9);
+        // the closing facet ends at the chain's arc length, not back at its start
+        let length: f64 = row.length.iter().sum();
+        assert!((row.facet_span(nf - 1)[1] - (0.6 + length)).abs() < 1e-12);
+        // every column is a twin pair: the loop has no tip
+        assert!((0..m).all(|i| row.minus[i] != row.plus[i]));
+    }
+}
