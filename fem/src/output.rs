@@ -33,6 +33,10 @@ pub struct InterfaceRecord {
     pub damage: f64,
     /// Cohesive element inserted.
     pub inserted: bool,
+    /// Interface chain the point lies on [-] (0, 1, … as docs/meshes.md orders them); written
+    /// only on a mesh with several chains (the coordinate is then each chain's own arc length).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub chain: Option<u16>,
 }
 
 /// Contact state of one node of the upper face (Γ1 ∪ Γ⁺coh).
@@ -48,6 +52,10 @@ pub struct FaceRecord {
     pub normal_traction: f64,
     /// Magnitude of the tangential contact traction |T| [Pa].
     pub tangential_traction: f64,
+    /// Interface chain the point lies on [-] (0, 1, … as docs/meshes.md orders them); written
+    /// only on a mesh with several chains (the coordinate is then each chain's own arc length).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub chain: Option<u16>,
 }
 
 /// Means over the contacting nodes of the upper face (Figs. 6c, D.15).
@@ -108,6 +116,10 @@ pub struct ArrivalRecord {
     pub failure_time: f64,
     /// Cumulative cohesive work ∫T·dΔ at this point [J/m²] (→ G_c at full failure).
     pub work_density: f64,
+    /// Interface chain the point lies on [-] (0, 1, … as docs/meshes.md orders them); written
+    /// only on a mesh with several chains (the coordinate is then each chain's own arc length).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub chain: Option<u16>,
 }
 
 /// Displacement and velocity of a probe node.

@@ -140,6 +140,7 @@ pub(super) mod tests {
             penetration,
             normal_traction: normal,
             tangential_traction: tangential,
+            chain: None,
         }
     }
 
@@ -179,6 +180,7 @@ pub(super) mod tests {
             insertion_time: t,
             failure_time: f64::NAN,
             work_density: 0.0,
+            chain: None,
         };
         RunOutput {
             faces,

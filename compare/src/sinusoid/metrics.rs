@@ -150,6 +150,7 @@ mod tests {
             insertion_time: f64::NAN,
             failure_time,
             work_density: 0.0,
+            chain: None,
         }
     }
 

@@ -95,9 +95,9 @@ fn crack_piece(model: &Model, state: &State, row: &InterfaceRow) -> FieldPiece {
         ..FieldPiece::default()
     };
     for side in 0..2u32 {
-        for c in 0..nf as u32 {
-            let first = side * np as u32 + c;
-            piece.push_cell(CellShape::Line, &[first, first + 1]);
+        for c in 0..nf {
+            let [a, b] = row.ends[c].map(|i| side * np as u32 + i);
+            piece.push_cell(CellShape::Line, &[a, b]);
         }
     }
     // per node: true gap, contact penetration and tractions (− copies, then + copies)

@@ -3,7 +3,7 @@
 //! at sample times only, and only for what the scene declares.
 
 use crate::law::cohesive::ClosingTreatment;
-use crate::mesh::interfaces::{FacetKind, InterfaceRow};
+use crate::mesh::interfaces::{FacetKind, InterfaceRow, NO_FACET};
 use crate::model::cohesive::{facet_gauss, midline_normal};
 use crate::model::state::{Model, State};
 use crate::model::stress::{self, Side};
@@ -35,32 +35,43 @@ fn watched(model: &Model, c: usize) -> bool {
 }
 
 /// Facets adjacent to column i.
-fn adjacent(row: &InterfaceRow, i: usize) -> impl Iterator<Item = usize> {
-    let nf = row.num_facets();
-    [i.wrapping_sub(1), i].into_iter().filter(move |&c| c < nf)
+fn adjacent(row: &InterfaceRow, i: usize) -> impl Iterator<Item = usize> + '_ {
+    row.column_facets(i)
 }
 
-/// Signed distance [m] of point p to the polyline through `face` (current positions), searched
-/// over columns i0 ± SEARCH_COLUMNS; positive on the side the polyline's left normal points to
-/// (upwards for a left-to-right row). At a vertex the two segments' normals are averaged.
-fn signed_distance(model: &Model, state: &State, face: &[u32], i0: usize, p: Vector2<f64>) -> f64 {
+/// Signed distance [m] of point p to the polyline through the `face` copies of the row's
+/// columns (current positions), searched over the facets of columns i0 ± SEARCH_COLUMNS (of
+/// i0's chain only: the facets join the columns in `row.ends`); positive on the side the
+/// polyline's left normal points to (upwards for a left-to-right row). At a vertex the two
+/// segments' normals are averaged.
+fn signed_distance(
+    model: &Model,
+    state: &State,
+    row: &InterfaceRow,
+    face: &[u32],
+    i0: usize,
+    p: Vector2<f64>,
+) -> f64 {
     let lo = i0.saturating_sub(SEARCH_COLUMNS);
-    let hi = (i0 + SEARCH_COLUMNS).min(face.len() - 1);
+    let hi = (i0 + SEARCH_COLUMNS).min(row.num_facets());
     let normal = |k: usize| {
-        let t = pos(model, state, face[k + 1]) - pos(model, state, face[k]);
+        let [a, b] = row.facet_columns(k);
+        let t = pos(model, state, face[b]) - pos(model, state, face[a]);
         Vector2::new(-t.y, t.x).normalize()
     };
     let mut best = (f64::INFINITY, 0.0);
-    for k in lo..hi {
-        let a = pos(model, state, face[k]);
-        let t = pos(model, state, face[k + 1]) - a;
+    for k in (lo..hi).filter(|&k| row.chain[row.facet_columns(k)[0]] == row.chain[i0]) {
+        let [ka, kb] = row.facet_columns(k);
+        let a = pos(model, state, face[ka]);
+        let t = pos(model, state, face[kb]) - a;
         let s = ((p - a).dot(&t) / t.norm_squared()).clamp(0.0, 1.0);
         let q = a + s * t;
         let d = (p - q).norm();
         if d < best.0 {
+            let [before, after] = [row.col_facets[ka][0], row.col_facets[kb][1]];
             let n = match s {
-                s if s <= 0.0 && k > 0 => normal(k - 1) + normal(k),
-                s if s >= 1.0 && k + 2 < face.len() => normal(k) + normal(k + 1),
+                s if s <= 0.0 && before != NO_FACET => normal(before as usize) + normal(k),
+                s if s >= 1.0 && after != NO_FACET => normal(k) + normal(after as usize),
                 _ => normal(k),
             };
             best = (d, if (p - q).dot(&n) >= 0.0 { d } else { -d });
@@ -71,8 +82,8 @@ fn signed_distance(model: &Model, state: &State, face: &[u32], i0: usize, p: Vec
 
 /// True gaps [m] of the + and − copies of column i (> 0 open).
 pub(crate) fn gaps(model: &Model, state: &State, row: &InterfaceRow, i: usize) -> (f64, f64) {
-    let gp = signed_distance(model, state, &row.minus, i, pos(model, state, row.plus[i]));
-    let gm = -signed_distance(model, state, &row.plus, i, pos(model, state, row.minus[i]));
+    let gp = signed_distance(model, state, row, &row.minus, i, pos(model, state, row.plus[i]));
+    let gm = -signed_distance(model, state, row, &row.plus, i, pos(model, state, row.minus[i]));
     (gp, gm)
 }
 
@@ -143,7 +154,7 @@ pub(crate) fn kkt(model: &Model, state: &State) -> KktRecord {
             }
             r.mismatch_nodes += usize::from(p > 0.0 && g > tol || p == 0.0 && g < -tol);
         }
-        let n = row.normal[i.min(row.num_facets() - 1)];
+        let n = row.normal[adjacent(row, i).last().expect("invariant: a column has a facet")];
         let tangent = Vector2::new(n.y, -n.x);
         let slip = (state.u[row.plus[i] as usize] - state.u[row.minus[i] as usize]).dot(&tangent);
         r.max_slip = r.max_slip.max(slip.abs());
@@ -162,10 +173,8 @@ pub(crate) fn residual_stress(model: &Model, state: &State, [x0, x1]: [f64; 2]) 
     let Some(row) = &model.iface else { return 0.0 };
     let (mut integral, mut extent) = (0.0, 0.0);
     for c in 0..row.num_facets() {
-        let (xa, xb) = (
-            model.x0[row.plus[c] as usize].x,
-            model.x0[row.plus[c + 1] as usize].x,
-        );
+        let [a, b] = row.facet_columns(c);
+        let (xa, xb) = (model.x0[row.plus[a] as usize].x, model.x0[row.plus[b] as usize].x);
         if !crate::scene::in_range(0.5 * (xa + xb), [x0, x1]) {
             continue;
         }
@@ -220,7 +229,7 @@ pub(crate) fn snapshot(
         let mut syy = 0.0;
         let mut count = 0.0;
         for c in adjacent(row, i) {
-            let xi = if c + 1 == i { 1.0 } else { -1.0 };
+            let xi = if row.facet_columns(c)[1] == i { 1.0 } else { -1.0 };
             syy += stress::facet_side(model, row, c, Side::Plus, &state.u, [xi])[0][1];
             count += 1.0;
         }

@@ -1,7 +1,7 @@
 //! Crack-tip and cohesive-zone-tip tracking along the interface row (docs/fem-model.md §8.1,
 //! docs/solver-api.md), damage records, and arrival times per Gauss point.
 
-use crate::mesh::interfaces::FacetKind;
+use crate::mesh::interfaces::{FacetKind, InterfaceRow};
 use crate::model::cohesive::facet_gauss;
 use crate::model::state::{Model, State};
 use crate::output::{ArrivalRecord, InterfaceRecord, TipRecord};
@@ -12,20 +12,24 @@ fn gauss_x(model: &Model, c: usize, q: usize) -> f64 {
         .iface
         .as_ref()
         .expect("invariant: facets exist only with an interface row");
-    let (xa, xb) = (row.coord[c], row.coord[c + 1]);
+    let [xa, xb] = row.facet_span(c);
     let (_, n1, n2) = facet_gauss()[q];
     n1 * xa + n2 * xb
 }
 
 /// Walks the Gauss points in `order` from the pre-crack tip `start`: the crack tip is the last of
 /// the contiguous fully broken points, the cohesive-zone tip the last of the following damaged ones.
+/// The walk stays on its chain: it stops where the next facet does not touch the previous one.
 fn walk(model: &Model, state: &State, order: impl Iterator<Item = (usize, usize)>, start: f64) -> (f64, f64) {
     let (mut tip, mut cz, mut broken_run) = (start, start, true);
     let row = model.iface.as_ref().expect("invariant: interface row");
+    let mut prev: Option<usize> = None;
     for (c, q) in order {
-        if row.kind[c] != FacetKind::Cohesive {
+        let joined = |p: usize| p == c || row.continues(p, c) || row.continues(c, p);
+        if row.kind[c] != FacetKind::Cohesive || !prev.is_none_or(joined) {
             break;
         }
+        prev = Some(c);
         let f = &state.facets;
         let d = if f.inserted[c] { f.gauss[c][q].damage } else { 0.0 };
         if broken_run && d >= 1.0 {
@@ -55,10 +59,15 @@ pub(crate) fn tips(model: &Model, state: &State) -> TipRecord {
         };
     };
     let nf = row.num_facets();
-    let first_right = (0..nf).find(|&c| row.kind[c] != FacetKind::PreCrack && gauss_x(model, c, 0) > xc);
-    let last_left = (0..nf)
-        .rev()
-        .find(|&c| row.kind[c] != FacetKind::PreCrack && gauss_x(model, c, 1) < xc);
+    // the tips are those of the chain that holds the pre-crack (its first facet's chain)
+    let chain_of = |c: usize| row.chain[row.facet_columns(c)[0]];
+    let crack_chain = (0..nf)
+        .find(|&c| row.kind[c] == FacetKind::PreCrack)
+        .map(chain_of);
+    let on_chain =
+        |c: usize| crack_chain.is_none_or(|k| chain_of(c) == k) && row.kind[c] != FacetKind::PreCrack;
+    let first_right = (0..nf).find(|&c| on_chain(c) && gauss_x(model, c, 0) > xc);
+    let last_left = (0..nf).rev().find(|&c| on_chain(c) && gauss_x(model, c, 1) < xc);
     let right = first_right.map_or((xc + a, xc + a), |c0| {
         walk(model, state, (c0..nf).flat_map(|c| [(c, 0), (c, 1)]), xc + a)
     });
@@ -77,6 +86,11 @@ pub(crate) fn tips(model: &Model, state: &State) -> TipRecord {
         cz_tip_right: right.1,
         cz_tip_left: left.1,
     }
+}
+
+/// The chain of facet c for the records: `None` on a row of one chain (no `chain` column).
+fn chain_label(row: &InterfaceRow, c: usize) -> Option<u16> {
+    (row.num_chains() > 1).then(|| row.chain[row.facet_columns(c)[0]])
 }
 
 /// Damage per cohesive Gauss point.
@@ -98,6 +112,7 @@ pub(crate) fn interface_records(model: &Model, state: &State, out: &mut Vec<Inte
                 x: gauss_x(model, c, q),
                 damage,
                 inserted,
+                chain: chain_label(row, c),
             });
         }
     }
@@ -119,6 +134,7 @@ pub(crate) fn arrivals(model: &Model, state: &State) -> Vec<ArrivalRecord> {
                 insertion_time: state.facets.insert_time[c],
                 failure_time: state.facets.fail_time[c][q],
                 work_density: state.facets.work_density[c][q],
+                chain: chain_label(row, c),
             });
         }
     }

@@ -8,10 +8,7 @@ use crate::output::{ContactMeanRecord, FaceRecord};
 /// Whether column i of the interface row touches a pre-crack or cohesive facet.
 fn on_face(model: &Model, i: usize) -> bool {
     let row = model.iface.as_ref().expect("invariant: interface row");
-    let nf = row.num_facets();
-    [i.wrapping_sub(1), i]
-        .iter()
-        .any(|&c| c < nf && row.kind[c] != FacetKind::Plain)
+    row.column_facets(i).any(|c| row.kind[c] != FacetKind::Plain)
 }
 
 /// Appends one record per upper-face node and returns the means.
@@ -57,6 +54,7 @@ pub(crate) fn face_records(model: &Model, state: &State, out: &mut Vec<FaceRecor
             penetration: p,
             normal_traction: pn,
             tangential_traction: tt,
+            chain: (row.num_chains() > 1).then_some(row.chain[i]),
         });
         if cs.in_contact[n] {
             area += cs.area[n];

@@ -135,7 +135,8 @@ pub enum MeshError {
     },
     /// More than two lines of an interface at one node.
     #[error(
-        "physical group \"{group}\": node {node} joins {count} of its lines; an interface must not branch"
+        "physical group \"{group}\": node {node} joins {count} of its lines; an interface must not \
+         branch (junctions of interfaces are not supported yet)"
     )]
     Branching {
         /// Group name.
@@ -183,19 +184,6 @@ pub enum MeshError {
     /// Two chains given to [`split_interface`] meet at a node.
     #[error("two interface chains share node {0}; junctions of interfaces are not supported yet")]
     ChainsMeet(u64),
-    /// Interface curves that do not form one open chain (the cohesive-contact model's rule).
-    #[error(
-        "the curves {groups} form {chains} chain(s){closed}: the model takes one open chain of mesh \
-         edges, from the boundary or a crack tip to the boundary or a crack tip"
-    )]
-    NotOneOpenChain {
-        /// The curves' names joined by " + ".
-        groups: String,
-        /// Number of chains they form.
-        chains: usize,
-        /// ", one closed" when a chain is closed, else empty.
-        closed: &'static str,
-    },
     /// A bulk element outside every surface the scene names as bulk.
     #[error("element {element} lies in none of the bulk surfaces {groups}: every element must belong to one")]
     OutsideBulk {

@@ -1,5 +1,10 @@
 //! Facets of the twinned interface row: pre-crack facets (free faces from the start), cohesive
 //! facets (tied until inserted) and plain facets (never open), docs/fem-model.md §3.1.
+//!
+//! One row holds every interface chain of the body: the columns of chain 0, then those of chain
+//! 1, …; a facet joins the two columns in [`InterfaceRow::ends`] (c and c + 1 along a chain, the
+//! last and the first column of a closed chain for its closing facet), so that consecutive
+//! columns of two chains share no facet (docs/meshes.md, "Several chains").
 
 use super::structured::Grid;
 use nalgebra::Vector2;
@@ -37,8 +42,19 @@ pub(crate) struct InterfaceRow {
     /// Interface coordinate of each column [m], increasing along the row: x on the built-in
     /// grids; the arc length from the row's first node, plus that node's x, on a Gmsh mesh (so
     /// that it is x on a straight interface along +x). Tips and interface records are given in it.
+    /// Each chain has its own: a chain's coordinate runs from its own first column.
     pub coord: Vec<f64>,
+    /// Columns at the start and the end of each facet [-].
+    pub ends: Vec<[u32; 2]>,
+    /// Per column: the facet that ends at it and the facet that starts at it ([`NO_FACET`] at
+    /// a chain's end) [-].
+    pub col_facets: Vec<[u32; 2]>,
+    /// Chain of each column (0, 1, … in the order the chains are stored) [-].
+    pub chain: Vec<u16>,
 }
+
+/// "No facet" in [`InterfaceRow::col_facets`].
+pub(crate) const NO_FACET: u32 = u32::MAX;
 
 impl InterfaceRow {
     /// Classifies the facets of the twinned row: pre-crack where the facet midpoint satisfies
@@ -61,7 +77,11 @@ impl InterfaceRow {
             length: Vec::with_capacity(nx),
             normal: Vec::with_capacity(nx),
             coord: Vec::new(),
+            ends: (0..nx as u32).map(|c| [c, c + 1]).collect(),
+            col_facets: Vec::new(),
+            chain: vec![0; nx + 1],
         };
+        out.col_facets = column_facets(nx + 1, &out.ends);
         out.coord = out.minus.iter().map(|&n| grid.x0[n as usize].x).collect();
         for c in 0..nx {
             let (xa, xb) = (grid.x0[out.minus[c] as usize], grid.x0[out.minus[c + 1] as usize]);
@@ -90,4 +110,46 @@ impl InterfaceRow {
     pub fn num_interface_facets(&self) -> usize {
         self.kind.iter().filter(|k| **k != FacetKind::Plain).count()
     }
+
+    /// Number of chains.
+    pub fn num_chains(&self) -> usize {
+        self.chain.last().map_or(0, |&k| k as usize + 1)
+    }
+
+    /// Columns at the start and the end of facet c.
+    pub fn facet_columns(&self, c: usize) -> [usize; 2] {
+        self.ends[c].map(|i| i as usize)
+    }
+
+    /// The facets (one or two) that touch column i.
+    pub fn column_facets(&self, i: usize) -> impl Iterator<Item = usize> + '_ {
+        self.col_facets[i]
+            .into_iter()
+            .filter(|&c| c != NO_FACET)
+            .map(|c| c as usize)
+    }
+
+    /// Interface coordinates [m] of the start and end of facet c: those of its columns, except
+    /// on the closing facet of a closed chain, whose end is its start plus its length.
+    pub fn facet_span(&self, c: usize) -> [f64; 2] {
+        let [a, b] = self.facet_columns(c);
+        let sa = self.coord[a];
+        [sa, if b > a { self.coord[b] } else { sa + self.length[c] }]
+    }
+
+    /// Whether facet `next` continues facet `prev` along their chain (the end column of `prev`
+    /// is the start column of `next`).
+    pub fn continues(&self, prev: usize, next: usize) -> bool {
+        self.ends[prev][1] == self.ends[next][0]
+    }
+}
+
+/// Per column, the facet ending at it and the facet starting at it ([`NO_FACET`]: none).
+pub(crate) fn column_facets(num_columns: usize, ends: &[[u32; 2]]) -> Vec<[u32; 2]> {
+    let mut out = vec![[NO_FACET; 2]; num_columns];
+    for (c, [a, b]) in ends.iter().enumerate() {
+        out[*a as usize][1] = c as u32;
+        out[*b as usize][0] = c as u32;
+    }
+    out
 }

@@ -3,13 +3,17 @@
 //! and split into twins, and the interface row built on it with each facet's own geometry
 //! (docs/meshes.md, "Scenes on a Gmsh mesh").
 //!
-//! The pre-crack and cohesive curves must form one simple chain of mesh edges, open, that ends on
-//! the outer boundary or at a crack tip inside the body. It runs from its end with the smaller x
-//! (then the smaller y), so that the + side is on its left (above a horizontal interface, as on
-//! the built-in grids), and its columns are measured by the arc length from that end.
+//! The pre-crack and cohesive curves form one or several disjoint simple chains of mesh edges
+//! (no node on two chains, none where three lines meet). An open chain ends on the outer boundary
+//! or at a crack tip inside the body and runs from its end with the smaller x (then the smaller
+//! y), so that the + side is on its left (above a horizontal interface, as on the built-in
+//! grids); a closed chain runs counter-clockwise from its node with the smaller x (then y), so
+//! that its + side, on its left, is the region it encloses. Each chain's columns are measured by
+//! the arc length from its first node, plus that node's x; the chains follow each other in the
+//! interface row in the order of their smallest line tag.
 
 use crate::gmsh::{Chain, MeshError, UnstructuredMesh, interface_chains_of, split_interface};
-use crate::mesh::interfaces::{FacetKind, InterfaceRow};
+use crate::mesh::interfaces::{FacetKind, InterfaceRow, column_facets};
 use nalgebra::Vector2;
 use std::collections::{HashMap, HashSet};
 
@@ -54,12 +58,18 @@ pub struct PreparedMesh {
 }
 
 impl PreparedMesh {
-    /// Interface-coordinate range [s₀, s₁] [m] of the pre-crack facets (`None`: none).
+    /// Interface-coordinate range [s₀, s₁] [m] of the pre-crack facets (`None`: none), from the
+    /// start of the first to the end of the last in the row's order.
     pub fn pre_crack_extent(&self) -> Option<[f64; 2]> {
         let row = self.row.as_ref()?;
         let pre = |c: &FacetKind| *c == FacetKind::PreCrack;
         let (first, last) = (row.kind.iter().position(pre)?, row.kind.iter().rposition(pre)?);
-        Some([row.coord[first], row.coord[last + 1]])
+        Some([row.facet_span(first)[0], row.facet_span(last)[1]])
+    }
+
+    /// Number of interface chains (0 without an interface).
+    pub fn num_chains(&self) -> usize {
+        self.row.as_ref().map_or(0, InterfaceRow::num_chains)
     }
 
     /// The largest |y| [m] of the pre-crack's nodes (0 on a crack along y = 0).
@@ -67,7 +77,7 @@ impl PreparedMesh {
         let Some(row) = &self.row else { return 0.0 };
         (0..row.num_facets())
             .filter(|&c| row.kind[c] == FacetKind::PreCrack)
-            .flat_map(|c| [row.minus[c], row.minus[c + 1]])
+            .flat_map(|c| row.facet_columns(c).map(|i| row.minus[i]))
             .map(|n| self.mesh.positions[n as usize].y.abs())
             .fold(0.0, f64::max)
     }
@@ -137,29 +147,11 @@ pub fn prepare(mesh: UnstructuredMesh, roles: &MeshRoles) -> Result<PreparedMesh
     } else {
         "interface"
     };
-    let mut chains = interface_chains_of(&mesh, &curves).map_err(role(key))?;
-    if chains.len() != 1 || chains[0].closed {
-        return Err(RoleError {
-            role: key,
-            error: MeshError::NotOneOpenChain {
-                groups: curves.join(" + "),
-                chains: chains.len(),
-                closed: if chains.iter().any(|c| c.closed) {
-                    ", one closed"
-                } else {
-                    ""
-                },
-            },
-        });
-    }
-    let mut chain = chains.remove(0);
-    let (first, last) = (
-        mesh.positions[chain.nodes[0]],
-        mesh.positions[*chain.nodes.last().expect("invariant: a chain has nodes")],
-    );
-    if (last.x, last.y) < (first.x, first.y) {
-        chain = chain.reversed();
-    }
+    let chains: Vec<Chain> = interface_chains_of(&mesh, &curves)
+        .map_err(role(key))?
+        .into_iter()
+        .map(|c| oriented(&mesh.positions, c))
+        .collect();
     let pre_lines: HashSet<usize> = roles
         .pre_crack
         .iter()
@@ -171,12 +163,12 @@ pub fn prepare(mesh: UnstructuredMesh, roles: &MeshRoles) -> Result<PreparedMesh
             curve_of_line.insert(l, k as u16);
         }
     }
-    let facet_curve = chain
-        .segments
+    let facet_curve = chains
         .iter()
+        .flat_map(|chain| &chain.segments)
         .map(|s| curve_of_line.get(&s.line).copied().unwrap_or(u16::MAX))
         .collect();
-    let split = split_interface(&mesh, std::slice::from_ref(&chain)).map_err(role(key))?;
+    let split = split_interface(&mesh, &chains).map_err(role(key))?;
     let n = split.mesh.positions.len();
     let mut outer = outer_before;
     let mut plus = vec![false; n];
@@ -187,7 +179,7 @@ pub fn prepare(mesh: UnstructuredMesh, roles: &MeshRoles) -> Result<PreparedMesh
         plus[t.plus] = true;
         twin_of[t.minus] = t.plus as u32;
     }
-    let row = row_of(&split.mesh, &chain, &twin_of, &pre_lines);
+    let row = row_of(&split.mesh, &chains, &twin_of, &pre_lines);
     Ok(PreparedMesh {
         mesh: split.mesh,
         outer,
@@ -231,49 +223,151 @@ fn bounding_box(x: &[Vector2<f64>]) -> [[f64; 2]; 2] {
     b
 }
 
-/// The interface row along `chain` of the split mesh: column i is chain node i (the − copy) and
-/// its twin (the + copy, or the node itself at a crack tip); facet c is segment c.
+/// The chain in the row's direction: an open chain from its end with the smaller (x, y); a closed
+/// chain counter-clockwise (its + side, on the left, inside) from its node with the smaller (x, y).
+fn oriented(x: &[Vector2<f64>], mut chain: Chain) -> Chain {
+    let key = |n: usize| (x[n].x, x[n].y);
+    if !chain.closed {
+        let last = *chain.nodes.last().expect("invariant: a chain has nodes");
+        return if key(last) < key(chain.nodes[0]) {
+            chain.reversed()
+        } else {
+            chain
+        };
+    }
+    // twice the signed area enclosed (shoelace): negative when clockwise
+    let m = chain.nodes.len();
+    let area2: f64 = (0..m)
+        .map(|i| {
+            let (a, b) = (x[chain.nodes[i]], x[chain.nodes[(i + 1) % m]]);
+            a.x * b.y - b.x * a.y
+        })
+        .sum();
+    if area2 < 0.0 {
+        chain = chain.reversed();
+    }
+    let start = (0..m)
+        .min_by(|&i, &j| {
+            key(chain.nodes[i])
+                .partial_cmp(&key(chain.nodes[j]))
+                .expect("invariant: finite positions")
+        })
+        .expect("invariant: a chain has nodes");
+    chain.nodes.rotate_left(start);
+    chain.segments.rotate_left(start);
+    chain
+}
+
+/// The interface row along `chains` of the split mesh, one after the other: the columns of a
+/// chain are its nodes in order (the − copy, and the + copy or the node itself at a crack tip);
+/// its facets are its segments, facet k joining columns k and k + 1 of the chain (the last facet
+/// of a closed chain joining its last column to its first).
 fn row_of(
     mesh: &UnstructuredMesh,
-    chain: &Chain,
+    chains: &[Chain],
     twin_of: &[u32],
     pre_lines: &HashSet<usize>,
 ) -> InterfaceRow {
     let x = &mesh.positions;
-    let minus: Vec<u32> = chain.nodes.iter().map(|&n| n as u32).collect();
-    let plus: Vec<u32> = chain.nodes.iter().map(|&n| twin_of[n]).collect();
-    let nf = chain.segments.len();
-    let mut coord = Vec::with_capacity(nf + 1);
-    coord.push(x[chain.nodes[0]].x);
-    let (mut length, mut normal) = (Vec::with_capacity(nf), Vec::with_capacity(nf));
-    for c in 0..nf {
-        let t = x[chain.nodes[c + 1]] - x[chain.nodes[c]];
-        length.push(t.norm());
-        normal.push(Vector2::new(-t.y, t.x) / t.norm());
-        coord.push(coord[c] + t.norm());
+    let mut row = InterfaceRow {
+        kind: Vec::new(),
+        minus: Vec::new(),
+        plus: Vec::new(),
+        elem_minus: Vec::new(),
+        elem_plus: Vec::new(),
+        face_edges: Vec::new(),
+        length: Vec::new(),
+        normal: Vec::new(),
+        coord: Vec::new(),
+        ends: Vec::new(),
+        col_facets: Vec::new(),
+        chain: Vec::new(),
+    };
+    for (k, chain) in chains.iter().enumerate() {
+        let first = row.minus.len() as u32;
+        let m = chain.nodes.len() as u32;
+        row.minus.extend(chain.nodes.iter().map(|&n| n as u32));
+        row.plus.extend(chain.nodes.iter().map(|&n| twin_of[n]));
+        row.chain.extend(std::iter::repeat_n(k as u16, chain.nodes.len()));
+        let mut s = x[chain.nodes[0]].x;
+        for (i, seg) in chain.segments.iter().enumerate() {
+            let (a, b) = (i as u32, (i as u32 + 1) % m);
+            let t = x[chain.nodes[b as usize]] - x[chain.nodes[a as usize]];
+            row.coord.push(s);
+            s += t.norm();
+            row.length.push(t.norm());
+            row.normal.push(Vector2::new(-t.y, t.x) / t.norm());
+            row.ends.push([first + a, first + b]);
+            row.kind.push(if pre_lines.contains(&seg.line) {
+                FacetKind::PreCrack
+            } else {
+                FacetKind::Cohesive
+            });
+            row.elem_minus.push(seg.minus.element as u32);
+            row.elem_plus.push(seg.plus.element as u32);
+            row.face_edges
+                .push([seg.plus.local_edge as u8, seg.minus.local_edge as u8]);
+        }
+        if !chain.closed {
+            row.coord.push(s);
+        }
     }
-    let segs = &chain.segments;
-    InterfaceRow {
-        kind: segs
-            .iter()
-            .map(|s| {
-                if pre_lines.contains(&s.line) {
-                    FacetKind::PreCrack
-                } else {
-                    FacetKind::Cohesive
-                }
-            })
-            .collect(),
-        minus,
-        plus,
-        elem_minus: segs.iter().map(|s| s.minus.element as u32).collect(),
-        elem_plus: segs.iter().map(|s| s.plus.element as u32).collect(),
-        face_edges: segs
-            .iter()
-            .map(|s| [s.plus.local_edge as u8, s.minus.local_edge as u8])
-            .collect(),
-        length,
-        normal,
-        coord,
+    row.col_facets = column_facets(row.minus.len(), &row.ends);
+    row
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn prepared(file: &str, interface: &[&str]) -> PreparedMesh {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../meshes")
+            .join(file);
+        let roles = MeshRoles {
+            interface: interface.iter().map(|s| s.to_string()).collect(),
+            ..MeshRoles::default()
+        };
+        prepare(UnstructuredMesh::read(&path).unwrap(), &roles).unwrap()
+    }
+
+    #[test]
+    fn two_disjoint_chains_share_one_row_but_no_facet() {
+        let p = prepared("two-chains.msh", &["left_cut", "right_cut"]);
+        let row = p.row.as_ref().unwrap();
+        assert_eq!(row.num_chains(), 2);
+        for c in 0..row.num_facets() {
+            let [a, b] = row.facet_columns(c);
+            assert_eq!((b, row.chain[a]), (a + 1, row.chain[b]), "facet {c}");
+        }
+        // each chain starts at its end with the smaller x, measured from that x
+        let first = |k: u16| row.chain.iter().position(|&c| c == k).unwrap();
+        assert_eq!(row.coord[first(0)], 0.0);
+        assert!((row.coord[first(1)] - 1.2).abs() < 1e-12);
+        // a chain's last column ends its last facet and starts none
+        let last0 = first(1) - 1;
+        assert_eq!(row.column_facets(last0).count(), 1);
+        assert!((row.facet_span(last0 - 1)[1] - 0.58f64.sqrt()).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_closed_chain_runs_counter_clockwise_and_closes_on_its_first_column() {
+        let p = prepared("inclusion.msh", &["interface"]);
+        let row = p.row.as_ref().unwrap();
+        let (m, nf) = (row.minus.len(), row.num_facets());
+        assert_eq!((row.num_chains(), m), (1, nf));
+        assert_eq!(row.ends[nf - 1], [(m - 1) as u32, 0]);
+        assert!((0..m).all(|i| row.column_facets(i).count() == 2));
+        // from the leftmost node (0.6, 1) m, counter-clockwise: the first facet goes down and the
+        // + side, on the left of the direction, is inside (toward the centre (1, 1) m)
+        let x = &p.mesh.positions;
+        assert!((x[row.minus[0] as usize] - Vector2::new(0.6, 1.0)).norm() < 1e-12);
+        assert!(x[row.minus[1] as usize].y < 1.0);
+        assert!(row.normal[0].x > 0.9);
+        // the closing facet ends at the chain's arc length, not back at its start
+        let length: f64 = row.length.iter().sum();
+        assert!((row.facet_span(nf - 1)[1] - (0.6 + length)).abs() < 1e-12);
+        // every column is a twin pair: the loop has no tip
+        assert!((0..m).all(|i| row.minus[i] != row.plus[i]));
     }
 }

@@ -220,9 +220,12 @@ fn facet_laws(scene: &Scene, iface: &Option<InterfaceRow>) -> (Vec<LinearCohesiv
 /// Interface coordinate [m] of each facet midpoint of the interface row (none without a row):
 /// x on the built-in grids, the arc length along the interface on a Gmsh mesh.
 fn facet_centres(iface: &Option<InterfaceRow>) -> impl Iterator<Item = f64> + '_ {
-    iface
-        .iter()
-        .flat_map(move |row| (0..row.num_facets()).map(move |c| 0.5 * (row.coord[c] + row.coord[c + 1])))
+    iface.iter().flat_map(move |row| {
+        (0..row.num_facets()).map(move |c| {
+            let [sa, sb] = row.facet_span(c);
+            0.5 * (sa + sb)
+        })
+    })
 }
 
 /// The structured grid of the scene; the y = 0 row is twinned when a pre-crack or an interface exists.
@@ -331,15 +334,11 @@ fn stiffness(grid: &Grid, d: &[[f64; 3]; 3]) -> Result<Stiffness, BuildError> {
 
 /// Whether column i's twins are tied: some incident facet is neither inserted nor pre-crack (§3.1).
 pub(crate) fn column_tied(row: &InterfaceRow, inserted: &[bool], i: usize) -> bool {
-    let nf = row.num_facets();
-    [i.wrapping_sub(1), i]
-        .iter()
-        .filter(|&&c| c < nf)
-        .any(|&c| match row.kind[c] {
-            FacetKind::PreCrack => false,
-            FacetKind::Plain => true,
-            FacetKind::Cohesive => !inserted[c],
-        })
+    row.column_facets(i).any(|c| match row.kind[c] {
+        FacetKind::PreCrack => false,
+        FacetKind::Plain => true,
+        FacetKind::Cohesive => !inserted[c],
+    })
 }
 
 fn initial_state(model: &Model) -> State {
@@ -362,7 +361,7 @@ fn initial_state(model: &Model) -> State {
         fail_time: vec![[f64::NAN; 2]; nf],
         work_density: vec![[0.0; 2]; nf],
         active: Vec::with_capacity(nf),
-        column_insert_time: vec![f64::NAN; nf + 1],
+        column_insert_time: vec![f64::NAN; model.iface.as_ref().map_or(1, |r| r.minus.len())],
     };
     let mut tied_twin = vec![u32::MAX; n];
     let mut contact = None;
@@ -413,8 +412,9 @@ fn initial_state(model: &Model) -> State {
 /// Adds both faces of facet c to Γ_det, each in its owner's counter-clockwise order: the + face
 /// is the bottom edge of the upper element (a⁺ → b⁺), the − face the top edge of the lower (b⁻ → a⁻).
 pub(crate) fn add_facet_faces(surface: &mut DetectionSurface, row: &InterfaceRow, c: usize) {
-    surface.add_segment(row.plus[c], row.plus[c + 1]);
-    surface.add_segment(row.minus[c + 1], row.minus[c]);
+    let [a, b] = row.facet_columns(c);
+    surface.add_segment(row.plus[a], row.plus[b]);
+    surface.add_segment(row.minus[b], row.minus[a]);
 }
 
 #[cfg(test)]

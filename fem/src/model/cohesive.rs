@@ -24,8 +24,9 @@ pub(crate) fn midline_normal(
     sign: f64,
 ) -> Vector2<f64> {
     let pos = |n: u32| x0[n as usize] + u[n as usize];
-    let xa = 0.5 * (pos(row.plus[c]) + pos(row.minus[c]));
-    let xb = 0.5 * (pos(row.plus[c + 1]) + pos(row.minus[c + 1]));
+    let [a, b] = row.facet_columns(c);
+    let xa = 0.5 * (pos(row.plus[a]) + pos(row.minus[a]));
+    let xb = 0.5 * (pos(row.plus[b]) + pos(row.minus[b]));
     let t = (xb - xa).normalize();
     sign * Vector2::new(-t.y, t.x)
 }
@@ -62,7 +63,8 @@ fn element(
     f: &mut [Vector2<f64>],
     t: f64,
 ) -> f64 {
-    let nodes = [row.plus[c], row.plus[c + 1], row.minus[c], row.minus[c + 1]].map(|n| n as usize);
+    let [a, b] = row.facet_columns(c);
+    let nodes = [row.plus[a], row.plus[b], row.minus[a], row.minus[b]].map(|n| n as usize);
     let un = nodes.map(|n| u[n]);
     let xn = nodes.map(|n| model.x0[n] + u[n]);
     let geometry = FacetGeometry {

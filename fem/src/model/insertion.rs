@@ -66,12 +66,14 @@ pub(crate) fn check_and_insert(
             continue;
         }
         insert(model, row, law, facets, c, &tq, u, t);
-        facets.column_insert_time[c] = t;
-        facets.column_insert_time[c + 1] = t;
+        let ends = row.facet_columns(c);
+        for i in ends {
+            facets.column_insert_time[i] = t;
+        }
         if let Some(cp) = contact.as_deref_mut().filter(|_| model.facet_detect[c]) {
             add_facet_faces(&mut cp.surface, row, c);
         }
-        for i in [c, c + 1] {
+        for i in ends {
             if !column_tied(row, &facets.inserted, i) {
                 tied_twin[row.minus[i] as usize] = u32::MAX;
                 tied_twin[row.plus[i] as usize] = u32::MAX;

@@ -79,16 +79,12 @@ fn failed_faces_only(
     frictionless: &mut [bool],
 ) {
     use crate::mesh::interfaces::FacetKind;
-    let nf = row.num_facets();
     for i in 0..row.minus.len() {
-        let broken = [i.wrapping_sub(1), i]
-            .iter()
-            .filter(|&&c| c < nf)
-            .all(|&c| match row.kind[c] {
-                FacetKind::PreCrack => true,
-                FacetKind::Cohesive => facets.inserted[c] && facets.gauss[c].iter().all(|g| g.damage >= 1.0),
-                FacetKind::Plain => false,
-            });
+        let broken = row.column_facets(i).all(|c| match row.kind[c] {
+            FacetKind::PreCrack => true,
+            FacetKind::Cohesive => facets.inserted[c] && facets.gauss[c].iter().all(|g| g.damage >= 1.0),
+            FacetKind::Plain => false,
+        });
         frictionless[row.minus[i] as usize] = !broken;
         frictionless[row.plus[i] as usize] = !broken;
     }

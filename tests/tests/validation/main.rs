@@ -30,6 +30,8 @@ mod fem_arc_interface;
 #[cfg(feature = "fem")]
 mod fem_center_crack;
 #[cfg(feature = "fem")]
+mod fem_chains;
+#[cfg(feature = "fem")]
 mod fem_cohesive_law;
 #[cfg(feature = "fem")]
 mod fem_contact_energy;
