@@ -11,7 +11,7 @@ use crate::model::face_stress::FaceStress;
 use crate::model::loading;
 use crate::model::mapped::{GaussShape, MappedStiffness, Trapezoid};
 use crate::model::state::{
-    BulkMesh, ContactPart, ElementNodes, EnergyTotals, Facets, GmshBulk, Model, State, Workspace,
+    BoundaryDof, BulkMesh, ContactPart, ElementNodes, EnergyTotals, Facets, GmshBulk, Model, State, Workspace,
 };
 use crate::model::unstructured::UnstructuredBulk;
 use crate::scene::MeshSpec;
@@ -84,6 +84,31 @@ fn build_on_mesh(scene: &Scene, spec: &MeshSpec) -> Result<(Model, State, Worksp
     )
 }
 
+/// The prescribed DOFs whose node has a twin free in that component, with that twin (see
+/// `Model::held_twins`). Empty on the built-in grids, whose sides hold both copies.
+fn held_twins(
+    prescribed: &[BoundaryDof],
+    fixed_dof: &[[bool; 2]],
+    iface: Option<&InterfaceRow>,
+) -> Vec<(u32, u32)> {
+    let Some(row) = iface else { return Vec::new() };
+    let mut twin = vec![u32::MAX; fixed_dof.len()];
+    for (&m, &p) in row.minus.iter().zip(&row.plus) {
+        if m != p {
+            twin[m as usize] = p;
+            twin[p as usize] = m;
+        }
+    }
+    prescribed
+        .iter()
+        .enumerate()
+        .filter_map(|(k, b)| {
+            let t = twin[b.node as usize];
+            (t != u32::MAX && !fixed_dof[t as usize][b.dof as usize]).then_some((k as u32, t))
+        })
+        .collect()
+}
+
 /// The model from its mesh parts and the scene's options, with its initial state and workspace.
 pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State, Workspace), BuildError> {
     let f = &scene.fem;
@@ -98,6 +123,7 @@ pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State,
     for p in &bd.prescribed {
         fixed_dof[p.node as usize][p.dof as usize] = true;
     }
+    let held_twins = held_twins(&bd.prescribed, &fixed_dof, iface.as_ref());
     // the layers the grid's one-pass sweep leaves to the corrector (a Gmsh mesh has no sweep)
     let deferred = match &mesh {
         BulkMesh::Grid { grid, .. } => {
@@ -147,6 +173,7 @@ pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State,
         prescribed: bd.prescribed,
         neumann: bd.neumann,
         fixed_dof,
+        held_twins,
         probes,
         crack: scene.crack.map(|c| (c.center_x, c.half_length)),
         lateral_contraction: f.lateral_contraction,

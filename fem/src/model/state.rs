@@ -68,6 +68,10 @@ pub struct Model {
     pub(crate) deferred: Vec<bool>,
     /// Per node and component (x, y): the DOF is prescribed.
     pub(crate) fixed_dof: Vec<[bool; 2]>,
+    /// (index into `prescribed`, twin node) for each prescribed DOF whose node has a twin that
+    /// is free in that component: a chain end where a held boundary curve ends. While the pair
+    /// is tied the twin follows the prescribed motion and its force goes to the support.
+    pub(crate) held_twins: Vec<(u32, u32)>,
     /// Probe node ids.
     pub(crate) probes: Vec<u32>,
     /// Pre-crack (x_c, a) [m].

@@ -88,8 +88,10 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
     contact_step::apply(model, state, ws, contact);
     ws.clock.lap(Phase::Contact);
     external_forces(model, state, ws);
+    support_held_twins(model, state, ws);
     reactions(model, state, ws);
     combine_tied(model, state, ws);
+    release_held_twins(model, state, ws);
     ws.clock.lap(Phase::Boundary);
     // Insertion reads u_{n+1} only (element stresses next to the interface): it runs before the
     // corrector, whose fused sweep may already move the bulk on to the next step's predictor.
@@ -167,6 +169,44 @@ fn prescribe(model: &Model, state: &mut State, ws: &Workspace, dt: f64) {
         let d = p.dof as usize;
         state.u[n][d] = ubar;
         state.v[n][d] = (ubar - state.presc_u[k]) / dt;
+    }
+    // a twin tied to a held node moves with it (one node until the facet is inserted)
+    for &(k, t) in &model.held_twins {
+        let p = &model.prescribed[k as usize];
+        let (n, d, t) = (p.node as usize, p.dof as usize, t as usize);
+        if state.tied_twin[n] == t as u32 {
+            state.u[t][d] = state.u[n][d];
+            state.v[t][d] = state.v[n][d];
+        }
+    }
+}
+
+/// A tied twin of a held node in the held component: its force goes to the support, and the work
+/// of the support on it, like on the held node, is booked with the exact kinetic-energy change of
+/// its imposed motion (see [`reactions`]). Runs before `reactions`, which then sees the pair's
+/// whole force on the held node.
+fn support_held_twins(model: &Model, state: &mut State, ws: &mut Workspace) {
+    for &(k, t) in &model.held_twins {
+        let p = &model.prescribed[k as usize];
+        let (n, d, t) = (p.node as usize, p.dof as usize, t as usize);
+        if state.tied_twin[n] != t as u32 {
+            continue;
+        }
+        ws.f[n][d] += ws.f[t][d];
+        ws.f[t][d] = 0.0;
+        let (vbar, vold) = (state.v[n][d], state.presc_v[k as usize]);
+        state.energy.boundary_work += 0.5 * model.mass[t] * (vbar * vbar - vold * vold);
+    }
+}
+
+/// After `combine_tied` shared the pair's forces by mass, the held component of the tied twin is
+/// set back to no force, so that it keeps the imposed velocity through the corrector.
+fn release_held_twins(model: &Model, state: &State, ws: &mut Workspace) {
+    for &(k, t) in &model.held_twins {
+        let p = &model.prescribed[k as usize];
+        if state.tied_twin[p.node as usize] == t {
+            ws.f[t as usize][p.dof as usize] = 0.0;
+        }
     }
 }
 
@@ -343,8 +383,10 @@ fn damping(model: &Model, state: &mut State) {
             if !on {
                 continue;
             }
+            let twin = if node == m { p } else { m };
             for d in 0..2 {
-                if !model.fixed_dof[node][d] {
+                // a tied twin of a held node moves with it in that component
+                if !model.fixed_dof[node][d] && !(tied && model.fixed_dof[twin][d]) {
                     let v = state.v[node][d];
                     removed += 0.5 * model.mass[node] * (1.0 - c * c) * v * v;
                     state.v[node][d] *= c;
