@@ -143,6 +143,13 @@ impl Study {
                 None
             }
         };
+        if fem.as_ref().is_some_and(fem::Scene::has_several_materials) {
+            bail!(
+                "fem.mesh.materials gives the bulk several materials, and the spectral model the \
+                 harness compares with is two identical half-spaces of [material]: the comparison \
+                 would not be of one problem (run the scene with the fem binary alone)"
+            );
+        }
         let (harness, unknown) =
             preflight::parse::<HarnessPart>(text).map_err(|m| anyhow!("[compare] does not parse: {m}"))?;
         // the harness reads only [compare]: keys it does not know elsewhere belong to the models

@@ -50,11 +50,12 @@ fn bulk_piece(model: &Model, state: &State) -> FieldPiece {
         shapes: Vec::with_capacity(ne),
         ..FieldPiece::default()
     };
-    let d = &model.d;
-    // plane strain: σ_zz = λ (ε_xx + ε_yy) = λ/(2(λ + μ)) (σ_xx + σ_yy), with D₀₀ = λ + 2μ, D₀₁ = λ
-    let nu = d[0][1] / (d[0][0] + d[0][1]);
     let mut s = [(); 5].map(|_| Vec::with_capacity(ne));
     for e in 0..ne {
+        // plane strain: σ_zz = λ (ε_xx + ε_yy) = λ/(2(λ + μ)) (σ_xx + σ_yy), with D₀₀ = λ + 2μ,
+        // D₀₁ = λ of the element's own material
+        let d = model.d_of(e);
+        let nu = d[0][1] / (d[0][0] + d[0][1]);
         let nodes = model.element_nodes(e);
         let shape = match nodes.as_slice().len() {
             3 => CellShape::Triangle,

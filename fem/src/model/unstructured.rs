@@ -63,6 +63,9 @@ pub enum UnstructuredError {
     /// A density that is not finite and positive.
     #[error("density = {0} kg/m³ must be finite and positive")]
     BadDensity(f64),
+    /// No material, more than 256, or an element material index out of range or missing.
+    #[error("every element needs a material index into 1 to 256 materials")]
+    BadMaterials,
     /// More nodes or element entries than the 32-bit indices of the kernel hold, or a node with
     /// more elements than one tile's buffer holds.
     #[error("the mesh is too large for the kernel's 32-bit indices")]
@@ -80,17 +83,37 @@ struct Tile {
     t3: [u32; 2],
 }
 
+/// The elastic constants of one material of the kernel.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BulkMaterial {
+    /// Plane-strain Voigt matrix D [Pa] ([`crate::law::elastic::PlaneStrain::d_matrix`]).
+    pub d: [[f64; 3]; 3],
+    /// Density ρ [kg/m³].
+    pub density: f64,
+}
+
+impl BulkMaterial {
+    /// Dilatational (P-wave) speed c_d = √(D₀₀/ρ) [m/s], D₀₀ = λ + 2G.
+    pub fn cd(&self) -> f64 {
+        (self.d[0][0] / self.density).sqrt()
+    }
+}
+
 /// The bulk of an unstructured T3/Q4 mesh, ready for force evaluations.
 #[derive(Debug, Clone)]
 pub struct UnstructuredBulk {
     /// Node positions (x, y) [m].
     pos: Vec<[f64; 2]>,
-    /// Plane-strain Voigt matrix D [Pa].
-    d: [[f64; 3]; 3],
+    /// Plane-strain Voigt matrix D [Pa] of each material (at most 256).
+    d: Vec<[[f64; 3]; 3]>,
     /// Node indices of each Q4, sorted by lowest node then mesh index.
     q4: Vec<[u32; 4]>,
     /// Node indices of each T3, sorted as the Q4.
     t3: Vec<[u32; 3]>,
+    /// Material index of each Q4 and each T3 (in `q4`/`t3` order); empty with one material, whose
+    /// batches then read one shared D.
+    q4_material: Vec<u8>,
+    t3_material: Vec<u8>,
     /// The tiles, covering the nodes in order.
     tiles: Vec<Tile>,
     /// Each tile's Q4 (indices into `q4`), ascending.
@@ -106,6 +129,9 @@ pub struct UnstructuredBulk {
     mass: Vec<f64>,
     /// Smallest element length of the stable step [m] (see [`UnstructuredBulk::min_length`]).
     h_min: f64,
+    /// Smallest transit time h_e/c_d,e over the elements [s] (see
+    /// [`UnstructuredBulk::min_transit_time`]).
+    min_transit: f64,
     /// Tiles one rayon task runs in a row (sharing one zeroed buffer), about 1/8 of the tiles.
     tiles_per_task: usize,
     /// The CPU has AVX-512F (the element passes run in 512-bit registers).
@@ -121,8 +147,31 @@ impl UnstructuredBulk {
     /// Builds the kernel on `mesh` with the plane-strain Voigt matrix `d` [Pa]
     /// ([`crate::law::elastic::PlaneStrain::d_matrix`]) and the density `density` [kg/m³].
     pub fn new(mesh: &UnstructuredMesh, d: &[[f64; 3]; 3], density: f64) -> Result<Self, UnstructuredError> {
-        if !(density.is_finite() && density > 0.0) {
-            return Err(UnstructuredError::BadDensity(density));
+        Self::with_materials(mesh, &[BulkMaterial { d: *d, density }], &[])
+    }
+
+    /// Builds the kernel on `mesh` with several materials: element e (in the mesh's order) is of
+    /// `materials[element_material[e]]`; an empty `element_material` puts every element in
+    /// `materials[0]`. Masses, forces and the stable step then use each element's own material.
+    pub fn with_materials(
+        mesh: &UnstructuredMesh,
+        materials: &[BulkMaterial],
+        element_material: &[u8],
+    ) -> Result<Self, UnstructuredError> {
+        if let Some(m) = materials
+            .iter()
+            .find(|m| !(m.density.is_finite() && m.density > 0.0))
+        {
+            return Err(UnstructuredError::BadDensity(m.density));
+        }
+        let single = element_material.is_empty();
+        let material_of = |e: usize| if single { 0 } else { element_material[e] as usize };
+        if materials.is_empty()
+            || materials.len() > 256
+            || !(single || element_material.len() == mesh.elements.len())
+            || (0..mesh.elements.len()).any(|e| material_of(e) >= materials.len())
+        {
+            return Err(UnstructuredError::BadMaterials);
         }
         let nn = mesh.positions.len();
         let total: usize = mesh.elements.iter().map(|e| e.nodes.len()).sum();
@@ -133,7 +182,8 @@ impl UnstructuredBulk {
 
         // validity and masses
         let mut mass = vec![0.0; nn];
-        for el in &mesh.elements {
+        for (e, el) in mesh.elements.iter().enumerate() {
+            let density = materials[material_of(e)].density;
             let inverted = |det_j: f64| UnstructuredError::InvertedElement {
                 element: el.tag,
                 det_j,
@@ -164,6 +214,9 @@ impl UnstructuredBulk {
             }
         }
         let h_min = min_element_length(mesh);
+        let min_transit = (0..mesh.elements.len())
+            .map(|e| element_length(mesh, e) / materials[material_of(e)].cd())
+            .fold(f64::INFINITY, f64::min);
 
         // the kernel's element order: by lowest node, then mesh index (elements that share nodes
         // end up close together, whatever order the mesh file has them in)
@@ -171,6 +224,7 @@ impl UnstructuredBulk {
         order.sort_by_key(|&e| (mesh.elements[e].nodes.iter().min().copied(), e));
         let mut q4 = Vec::new();
         let mut t3 = Vec::new();
+        let (mut q4_material, mut t3_material) = (Vec::new(), Vec::new());
         // node → (Q4?, index in q4 or t3, local node) in CSR form, in the kernel's element order
         let mut adj_start = vec![0u32; nn + 1];
         for &a in mesh.elements.iter().flat_map(|el| &el.nodes) {
@@ -186,10 +240,16 @@ impl UnstructuredBulk {
             let (is_q4, index) = match el.kind {
                 ElementKind::Q4 => {
                     q4.push([0, 1, 2, 3].map(|k| el.nodes[k] as u32));
+                    if !single {
+                        q4_material.push(element_material[e]);
+                    }
                     (true, q4.len() - 1)
                 }
                 ElementKind::T3 => {
                     t3.push([0, 1, 2].map(|k| el.nodes[k] as u32));
+                    if !single {
+                        t3_material.push(element_material[e]);
+                    }
                     (false, t3.len() - 1)
                 }
             };
@@ -290,9 +350,11 @@ impl UnstructuredBulk {
         let tiles_per_task = (tiles.len() / 8).max(1);
         Ok(Self {
             pos: x.iter().map(|p| [p.x, p.y]).collect(),
-            d: *d,
+            d: materials.iter().map(|m| m.d).collect(),
             q4,
             t3,
+            q4_material,
+            t3_material,
             tiles,
             tile_q4,
             tile_t3,
@@ -300,6 +362,7 @@ impl UnstructuredBulk {
             slots,
             mass,
             h_min,
+            min_transit,
             tiles_per_task,
             avx512: avx512(),
         })
@@ -333,12 +396,21 @@ impl UnstructuredBulk {
         crate::law::elastic::stable_time_step(alpha, self.h_min, cd, 0.0)
     }
 
+    /// The smallest transit time min_e h_e/c_d,e [s] over the elements, each with its own length
+    /// h_e ([`UnstructuredBulk::min_length`]'s rule) and its own material's P-wave speed: the
+    /// stable step without a penalty is α times it.
+    pub fn min_transit_time(&self) -> f64 {
+        self.min_transit
+    }
+
     /// Bytes of the kernel's arrays (positions, connectivity, tiles and slots, masses).
     pub fn memory_bytes(&self) -> usize {
         use std::mem::size_of_val;
         size_of_val(&self.pos[..])
             + size_of_val(&self.q4[..])
             + size_of_val(&self.t3[..])
+            + size_of_val(&self.q4_material[..])
+            + size_of_val(&self.t3_material[..])
             + size_of_val(&self.tiles[..])
             + size_of_val(&self.tile_q4[..])
             + size_of_val(&self.tile_t3[..])
@@ -452,15 +524,80 @@ type Batch<const N: usize> = [[[f64; 4]; L]; N];
 #[inline(always)]
 fn element_forces(k: &UnstructuredBulk, q: &[u32], tr: &[u32], u: &[[f64; 2]], buf: &mut [f64; SCRATCH]) {
     let (bq, bt) = buf.split_at_mut(buffer_len(q.len(), 0));
-    batches::<4, Q4Pass>(&k.q4, &k.pos, &k.d, u, q, bq);
-    batches::<3, T3Pass>(&k.t3, &k.pos, &k.d, u, tr, bt);
+    if k.d.len() == 1 {
+        let one = OneD(&k.d[0]);
+        batches::<4, Q4Pass, _>(&k.q4, &k.pos, one, u, q, bq);
+        batches::<3, T3Pass, _>(&k.t3, &k.pos, one, u, tr, bt);
+    } else {
+        let q4 = TableD {
+            table: &k.d,
+            material: &k.q4_material,
+        };
+        batches::<4, Q4Pass, _>(&k.q4, &k.pos, q4, u, q, bq);
+        let t3 = TableD {
+            table: &k.d,
+            material: &k.t3_material,
+        };
+        batches::<3, T3Pass, _>(&k.t3, &k.pos, t3, u, tr, bt);
+    }
+}
+
+/// D of each lane of a batch, `[i][j][lane]` [Pa] (structure of arrays, so that a lane loop
+/// reads it with vector loads).
+type LaneD = [[[f64; L]; 3]; 3];
+
+/// Where a batch's lanes find their D: one D for every element (the single-material kernel,
+/// whose code is the same as before materials existed), or a table and a material per element.
+trait Elasticity: Copy {
+    /// Stages the D of the elements `chunk` (1 to L of them; the last fills the lanes left over).
+    fn stage(self, chunk: &[u32], dst: &mut LaneD);
+    /// D of lane `l`, from what [`Elasticity::stage`] staged.
+    fn lane(self, staged: &LaneD, l: usize) -> [[f64; 3]; 3];
+}
+
+/// One D for every element.
+#[derive(Clone, Copy)]
+struct OneD<'a>(&'a [[f64; 3]; 3]);
+
+/// A D per element: `table[material[element]]`.
+#[derive(Clone, Copy)]
+struct TableD<'a> {
+    table: &'a [[[f64; 3]; 3]],
+    material: &'a [u8],
+}
+
+impl Elasticity for OneD<'_> {
+    #[inline(always)]
+    fn stage(self, _: &[u32], _: &mut LaneD) {}
+    #[inline(always)]
+    fn lane(self, _: &LaneD, _: usize) -> [[f64; 3]; 3] {
+        *self.0
+    }
+}
+
+impl Elasticity for TableD<'_> {
+    #[inline(always)]
+    fn stage(self, chunk: &[u32], dst: &mut LaneD) {
+        for l in 0..L {
+            let d = &self.table[self.material[chunk[l.min(chunk.len() - 1)] as usize] as usize];
+            for i in 0..3 {
+                for j in 0..3 {
+                    dst[i][j][l] = d[i][j];
+                }
+            }
+        }
+    }
+    #[inline(always)]
+    fn lane(self, staged: &LaneD, l: usize) -> [[f64; 3]; 3] {
+        [0, 1, 2].map(|i| [staged[i][0][l], staged[i][1][l], staged[i][2][l]])
+    }
 }
 
 /// The force computation of one batch of an element kind with N corners. A trait rather than a
 /// closure: closures are not inlined into the AVX-512 pass, which stops its vectorisation.
 trait BatchPass<const N: usize> {
-    /// Forces of the batch `w` into `out` (2NL values).
-    fn forces(w: &Batch<N>, d: &[[f64; 3]; 3], out: &mut [f64]);
+    /// Forces of the batch `w`, lane l of D `e.lane(d, l)`, into `out` (2NL values).
+    fn forces<E: Elasticity>(w: &Batch<N>, e: E, d: &LaneD, out: &mut [f64]);
 }
 
 /// Q4 batches ([`q4_batch`]).
@@ -470,42 +607,48 @@ struct T3Pass;
 
 impl BatchPass<4> for Q4Pass {
     #[inline(always)]
-    fn forces(w: &Batch<4>, d: &[[f64; 3]; 3], out: &mut [f64]) {
-        q4_batch(w, d, out)
+    fn forces<E: Elasticity>(w: &Batch<4>, e: E, d: &LaneD, out: &mut [f64]) {
+        q4_batch(w, e, d, out)
     }
 }
 
 impl BatchPass<3> for T3Pass {
     #[inline(always)]
-    fn forces(w: &Batch<3>, d: &[[f64; 3]; 3], out: &mut [f64]) {
-        t3_batch(w, d, out)
+    fn forces<E: Elasticity>(w: &Batch<3>, e: E, d: &LaneD, out: &mut [f64]) {
+        t3_batch(w, e, d, out)
     }
 }
 
 /// One kind's element pass: the elements `list` in batches of L, each batch's forces (2N values
 /// per lane) into the next 2NL values of `out`, the next batch's corners gathered first.
 #[inline(always)]
-fn batches<const N: usize, P: BatchPass<N>>(
+fn batches<const N: usize, P: BatchPass<N>, E: Elasticity>(
     conn: &[[u32; N]],
     pos: &[[f64; 2]],
-    d: &[[f64; 3]; 3],
+    e: E,
     u: &[[f64; 2]],
     list: &[u32],
     out: &mut [f64],
 ) {
     let mut stage = [[[[0.0; 4]; L]; N]; 2];
+    let mut stage_d = [[[[0.0; L]; 3]; 3]; 2];
     let (s0, s1) = stage.split_at_mut(1);
     let (mut cur, mut next) = (&mut s0[0], &mut s1[0]);
+    let (d0, d1) = stage_d.split_at_mut(1);
+    let (mut cur_d, mut next_d) = (&mut d0[0], &mut d1[0]);
     let mut chunks = list.chunks(L);
     if let Some(c) = chunks.next() {
         gather(conn, pos, u, c, cur);
+        e.stage(c, cur_d);
     }
     for out in out.chunks_exact_mut(2 * N * L) {
         if let Some(c) = chunks.next() {
             gather(conn, pos, u, c, next);
+            e.stage(c, next_d);
         }
-        P::forces(cur, d, out);
+        P::forces(cur, e, cur_d, out);
         std::mem::swap(&mut cur, &mut next);
+        std::mem::swap(&mut cur_d, &mut next_d);
     }
 }
 
@@ -532,9 +675,10 @@ fn gather<const N: usize>(
 /// out[(2a + c)L + l] [N/m] for corner a, component c, lane l. ε = B u_e, σ = D ε,
 /// f_a = A B_aᵀσ = ½ (b_a σ_xx + c_a σ_xy, c_a σ_yy + b_a σ_xy).
 #[inline(always)]
-fn t3_batch(w: &Batch<3>, d: &[[f64; 3]; 3], out: &mut [f64]) {
+fn t3_batch<E: Elasticity>(w: &Batch<3>, el: E, lane_d: &LaneD, out: &mut [f64]) {
     let out: &mut [f64; 6 * L] = out.try_into().expect("a T3 batch is 6L values");
     for l in 0..L {
+        let d = &el.lane(lane_d, l);
         let (x0, x1, x2) = (w[0][l][0], w[1][l][0], w[2][l][0]);
         let (y0, y1, y2) = (w[0][l][1], w[1][l][1], w[2][l][1]);
         let b = [y1 - y2, y2 - y0, y0 - y1];
@@ -569,11 +713,12 @@ fn t3_batch(w: &Batch<3>, d: &[[f64; 3]; 3], out: &mut [f64]) {
 /// N_a,η = ¼η_a(1 + ξξ_a) the Gauss sums collapse to f_a = ¼[ξ_a(ΣP + η_a ΣηP) + η_a(ΣQ + ξ_a ΣξQ)]
 /// (the same structure as `model::mapped::element_forces`).
 #[inline(always)]
-fn q4_batch(w: &Batch<4>, d: &[[f64; 3]; 3], out: &mut [f64]) {
+fn q4_batch<E: Elasticity>(w: &Batch<4>, el: E, lane_d: &LaneD, out: &mut [f64]) {
     let out: &mut [f64; 8 * L] = out.try_into().expect("a Q4 batch is 8L values");
     let g = 1.0 / 3f64.sqrt();
     // one element per lane, in a loop the optimiser vectorises (straight-line code, no calls)
     for l in 0..L {
+        let d = &el.lane(lane_d, l);
         // [k] = x, y, u_x, u_y: 4 ∂/∂ξ at η = −g, +g and 4 ∂/∂η at ξ = −g, +g
         let dv = [
             q4_derivatives(w, 0, l, g),
@@ -662,19 +807,21 @@ fn gauss_point(
 /// element 2A/ℓ_max for a T3 and A/ℓ_max for a Q4 (ℓ_max its longest edge); ∞ for a mesh without
 /// elements.
 pub fn min_element_length(mesh: &UnstructuredMesh) -> f64 {
-    let x = &mesh.positions;
-    mesh.elements
-        .iter()
-        .map(|el| {
-            let c = |k: usize| x[el.nodes[k]];
-            let n = el.nodes.len();
-            let longest = (0..n).map(|k| (c((k + 1) % n) - c(k)).norm()).fold(0.0, f64::max);
-            match el.kind {
-                ElementKind::T3 => (c(1) - c(0)).perp(&(c(2) - c(0))) / longest,
-                ElementKind::Q4 => 0.5 * ((c(2) - c(0)).perp(&(c(3) - c(1)))) / longest,
-            }
-        })
+    (0..mesh.elements.len())
+        .map(|e| element_length(mesh, e))
         .fold(f64::INFINITY, f64::min)
+}
+
+/// The length h_e [m] of element `e` of the stable step: 2A/ℓ_max for a T3, A/ℓ_max for a Q4.
+pub fn element_length(mesh: &UnstructuredMesh, e: usize) -> f64 {
+    let (x, el) = (&mesh.positions, &mesh.elements[e]);
+    let c = |k: usize| x[el.nodes[k]];
+    let n = el.nodes.len();
+    let longest = (0..n).map(|k| (c((k + 1) % n) - c(k)).norm()).fold(0.0, f64::max);
+    match el.kind {
+        ElementKind::T3 => (c(1) - c(0)).perp(&(c(2) - c(0))) / longest,
+        ElementKind::Q4 => 0.5 * ((c(2) - c(0)).perp(&(c(3) - c(1)))) / longest,
+    }
 }
 
 #[cfg(test)]
@@ -721,8 +868,18 @@ mod tests {
     /// The old formulation, as reference: f_a = −Σ_e K_e[a-rows] u_e in mesh element order, with
     /// K_e from `cst_stiffness` and `bulk::stiffness`.
     fn reference_forces(mesh: &UnstructuredMesh, d: &[[f64; 3]; 3], u: &[Vector2<f64>]) -> Vec<Vector2<f64>> {
+        reference_forces_of(mesh, &|_| *d, u)
+    }
+
+    /// As [`reference_forces`], element e with the Voigt matrix `d_of(e)`.
+    fn reference_forces_of(
+        mesh: &UnstructuredMesh,
+        d_of: &dyn Fn(usize) -> [[f64; 3]; 3],
+        u: &[Vector2<f64>],
+    ) -> Vec<Vector2<f64>> {
         let mut f = vec![Vector2::zeros(); u.len()];
-        for el in &mesh.elements {
+        for (e, el) in mesh.elements.iter().enumerate() {
+            let d = &d_of(e);
             let c: Vec<Vector2<f64>> = el.nodes.iter().map(|&a| mesh.positions[a]).collect();
             let k: Vec<Vec<f64>> = match el.kind {
                 ElementKind::T3 => cst_stiffness(&[c[0], c[1], c[2]], d)
@@ -1082,5 +1239,130 @@ mod tests {
             Err(UnstructuredError::InvertedElement { element: 1, .. })
         ));
         assert!(UnstructuredBulk::new(&mesh, &d, 0.0).is_err());
+    }
+
+    /// Two materials, (E, ν, ρ) and (8E, 0.25, 2ρ), on the elements of a distorted mixed mesh in a
+    /// scattered pattern: forces against Σ K_e u_e with each element's own D (round-off, 1e-12
+    /// of the largest force, as the one-material test), masses against ρ_e A_e summed, the same
+    /// bits on 1 and 2 threads and on both vector paths, and the smallest transit time against
+    /// min_e h_e/c_d,e.
+    #[test]
+    fn two_materials_use_each_elements_own() {
+        let mesh = distorted_mixed(60, 40, true);
+        let (m0, m1) = (material(), PlaneStrain::new(560e6, 0.25, 2460.0));
+        let table = [m0, m1].map(|m| BulkMaterial {
+            d: m.d_matrix(),
+            density: m.density,
+        });
+        let index: Vec<u8> = (0..mesh.elements.len()).map(|e| ((e * 7) % 3 == 0) as u8).collect();
+        let mut bulk = UnstructuredBulk::with_materials(&mesh, &table, &index).unwrap();
+        let u = wobble(bulk.num_nodes());
+        let f = forces(&bulk, &u);
+        let g = reference_forces_of(&mesh, &|e| table[index[e] as usize].d, &u);
+        let scale = g.iter().map(|v| v.norm()).fold(0.0, f64::max);
+        for (n, (a, b)) in f.iter().zip(&g).enumerate() {
+            assert!((a - b).norm() <= 1e-12 * scale, "node {n}: {a} vs {b}");
+        }
+        let one_d = reference_forces(&mesh, &table[0].d, &u);
+        assert!(f.iter().zip(&one_d).any(|(a, b)| (a - b).norm() > 1e-3 * scale));
+        // masses: ρ_e A_e over the elements
+        let area = |e: usize| {
+            let c: Vec<Vector2<f64>> = mesh.elements[e].nodes.iter().map(|&a| mesh.positions[a]).collect();
+            0.5 * (0..c.len()).map(|k| c[k].perp(&c[(k + 1) % c.len()])).sum::<f64>()
+        };
+        let total: f64 = (0..mesh.elements.len())
+            .map(|e| table[index[e] as usize].density * area(e))
+            .sum();
+        let summed: f64 = bulk.masses().iter().sum();
+        assert!((summed - total).abs() <= 1e-12 * total, "{summed} vs {total}");
+        let transit = (0..mesh.elements.len())
+            .map(|e| element_length(&mesh, e) / table[index[e] as usize].cd())
+            .fold(f64::INFINITY, f64::min);
+        assert_eq!(bulk.min_transit_time(), transit);
+        assert!(transit < bulk.min_length() / m0.wave_speeds().cd);
+        let run = |threads: usize, bulk: &UnstructuredBulk| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| forces(bulk, &u))
+        };
+        assert_same_bits(&run(1, &bulk), &run(2, &bulk));
+        bulk.avx512 = false;
+        assert_same_bits(&forces(&bulk, &u), &f);
+    }
+
+    /// A table of one material repeated runs the per-element path, which must give the bits of
+    /// the one-material kernel (the two differ only in where a lane finds its D).
+    #[test]
+    fn a_table_of_one_material_gives_the_single_material_bits() {
+        let mesh = distorted_mixed(30, 20, false);
+        let m = material();
+        let one = BulkMaterial {
+            d: m.d_matrix(),
+            density: m.density,
+        };
+        let single = UnstructuredBulk::new(&mesh, &one.d, one.density).unwrap();
+        let index: Vec<u8> = (0..mesh.elements.len()).map(|e| (e % 2) as u8).collect();
+        let table = UnstructuredBulk::with_materials(&mesh, &[one, one], &index).unwrap();
+        let u = wobble(single.num_nodes());
+        assert_same_bits(&forces(&table, &u), &forces(&single, &u));
+        assert_eq!(table.masses(), single.masses());
+        assert!(matches!(
+            UnstructuredBulk::with_materials(&mesh, &[one], &index),
+            Err(UnstructuredError::BadMaterials)
+        ));
+    }
+
+    /// The static patch across two materials (`meshes/bimaterial.msh`, "soft" for x < 1 m,
+    /// "stiff" beyond): under a uniform σ_xx = p with u_y = 0 (rollers on top and bottom), the
+    /// exact field is u_x = p x/M₁ for x ≤ 1 m and p/M₁ + p (x − 1)/M₂ beyond (M = λ + 2G, each
+    /// part's own compliance). Bilinear elements hold it exactly, so every node off the two ends
+    /// is in equilibrium in x (and off the rollers in y) to round-off: 1e-10 of the end forces.
+    /// The end forces sum to p times the bar's height, on the right end as on the left.
+    #[test]
+    fn a_uniform_stress_crosses_two_materials_exactly() {
+        let mesh = committed("bimaterial.msh");
+        let (soft, stiff) = (material(), PlaneStrain::new(560e6, 0.35, 2460.0));
+        let table = [soft, stiff].map(|m| BulkMaterial {
+            d: m.d_matrix(),
+            density: m.density,
+        });
+        let mut index = vec![0u8; mesh.elements.len()];
+        for &e in &mesh.groups["stiff"].elements {
+            index[e] = 1;
+        }
+        let bulk = UnstructuredBulk::with_materials(&mesh, &table, &index).unwrap();
+        let p = 1e5;
+        let (m1, m2) = (table[0].d[0][0], table[1].d[0][0]);
+        let u: Vec<Vector2<f64>> = mesh
+            .positions
+            .iter()
+            .map(|x| {
+                let ux = if x.x <= 1.0 {
+                    p * x.x / m1
+                } else {
+                    p / m1 + p * (x.x - 1.0) / m2
+                };
+                Vector2::new(ux, 0.0)
+            })
+            .collect();
+        let f = forces(&bulk, &u);
+        let tol = 1e-10 * p * 0.06;
+        let (mut left, mut right) = (0.0, 0.0);
+        for (n, (x, fa)) in mesh.positions.iter().zip(&f).enumerate() {
+            let end = x.x.abs() < 1e-9 || (x.x - 2.5).abs() < 1e-9;
+            let roller = x.y.abs() < 1e-9 || (x.y - 0.06).abs() < 1e-9;
+            if x.x.abs() < 1e-9 {
+                left += fa.x;
+            } else if (x.x - 2.5).abs() < 1e-9 {
+                right += fa.x;
+            }
+            assert!(end || fa.x.abs() <= tol, "node {n} at {x}: f_x = {}", fa.x);
+            assert!(roller || fa.y.abs() <= tol, "node {n} at {x}: f_y = {}", fa.y);
+        }
+        // f = −f_int: the left end's nodes need +p h to be held, the right end's −p h
+        assert!((left - p * 0.06).abs() <= tol, "{left}");
+        assert!((right + p * 0.06).abs() <= tol, "{right}");
     }
 }
