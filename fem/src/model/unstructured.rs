@@ -13,7 +13,7 @@
 //!   element (docs/fem-model.md §1).
 //!
 //! Storage: no element matrix is stored. The kernel keeps the node positions (16 B per node), the
-//! shared D, the connectivity (12 B per T3, 16 B per Q4) and, per node, one 2-byte slot per
+//! D of each material (one unless `[fem.mesh.materials]` gives more), the connectivity (12 B per T3, 16 B per Q4) and, per node, one 2-byte slot per
 //! adjacent element. Each evaluation recomputes the element forces f_e = Bᵀσ from the positions,
 //! as explicit codes do (Belytschko, Liu & Moran, *Nonlinear Finite Elements for Continua and
 //! Structures*, ch. 4: internal nodal forces f_e = ∫ Bᵀσ dΩ from ε = B u_e and σ = D ε): about
@@ -25,7 +25,9 @@
 //! elements adjacent to its nodes (those on a tile's edge are listed by both neighbours and
 //! computed twice), computes their forces into a buffer on the stack (256 KiB: it stays in the
 //! core's L2), and every node then sums its elements' forces from that buffer through its slots,
-//! in a fixed order (elements sorted by their lowest node, then by mesh index). Tiles run in
+//! in a fixed order (elements sorted by their material, then their lowest node, then mesh index).
+//! Each material's elements run in batches of their own with that material's D, so the batch
+//! code is the one-material code whatever the number of materials. Tiles run in
 //! parallel and write disjoint node ranges, so the result is the same to the bit for any number of
 //! threads, and the element passes use the same operations with or without AVX-512.
 
@@ -106,14 +108,14 @@ pub struct UnstructuredBulk {
     pos: Vec<[f64; 2]>,
     /// Plane-strain Voigt matrix D [Pa] of each material (at most 256).
     d: Vec<[[f64; 3]; 3]>,
-    /// Node indices of each Q4, sorted by lowest node then mesh index.
+    /// Node indices of each Q4, sorted by material, then lowest node, then mesh index.
     q4: Vec<[u32; 4]>,
     /// Node indices of each T3, sorted as the Q4.
     t3: Vec<[u32; 3]>,
-    /// Material index of each Q4 and each T3 (in `q4`/`t3` order); empty with one material, whose
-    /// batches then read one shared D.
-    q4_material: Vec<u8>,
-    t3_material: Vec<u8>,
+    /// The Q4 of material m are `q4[q4_bound[m]..q4_bound[m + 1]]` (one entry per material, + 1).
+    q4_bound: Vec<u32>,
+    /// The T3 of material m are `t3[t3_bound[m]..t3_bound[m + 1]]`.
+    t3_bound: Vec<u32>,
     /// The tiles, covering the nodes in order.
     tiles: Vec<Tile>,
     /// Each tile's Q4 (indices into `q4`), ascending.
@@ -141,6 +143,18 @@ pub struct UnstructuredBulk {
 /// Buffer values of `nq` Q4 and `nt` T3 (whole batches of L, 2 components per node).
 fn buffer_len(nq: usize, nt: usize) -> usize {
     nq.div_ceil(L) * L * 8 + nt.div_ceil(L) * L * 6
+}
+
+/// The most buffer values `nq` Q4 and `nt` T3 of `materials` materials take: each material's
+/// elements start a batch of their own, so each material after the first may add a partial batch
+/// of each kind.
+fn padded_len(nq: usize, nt: usize, materials: usize) -> usize {
+    buffer_len(nq, nt) + (materials - 1) * L * (8 + 6)
+}
+
+/// The material m whose range `bound[m]..bound[m + 1]` holds element `i`.
+fn material_in(bound: &[u32], i: u32) -> usize {
+    bound.partition_point(|&b| b <= i) - 1
 }
 
 impl UnstructuredBulk {
@@ -218,13 +232,15 @@ impl UnstructuredBulk {
             .map(|e| element_length(mesh, e) / materials[material_of(e)].cd())
             .fold(f64::INFINITY, f64::min);
 
-        // the kernel's element order: by lowest node, then mesh index (elements that share nodes
+        // the kernel's element order: by material (each material's elements run in batches of
+        // their own, with one D), then lowest node, then mesh index (elements that share nodes
         // end up close together, whatever order the mesh file has them in)
         let mut order: Vec<usize> = (0..mesh.elements.len()).collect();
-        order.sort_by_key(|&e| (mesh.elements[e].nodes.iter().min().copied(), e));
+        order.sort_by_key(|&e| (material_of(e), mesh.elements[e].nodes.iter().min().copied(), e));
         let mut q4 = Vec::new();
         let mut t3 = Vec::new();
-        let (mut q4_material, mut t3_material) = (Vec::new(), Vec::new());
+        let nm = materials.len();
+        let (mut q4_bound, mut t3_bound) = (vec![0u32; nm + 1], vec![0u32; nm + 1]);
         // node → (Q4?, index in q4 or t3, local node) in CSR form, in the kernel's element order
         let mut adj_start = vec![0u32; nn + 1];
         for &a in mesh.elements.iter().flat_map(|el| &el.nodes) {
@@ -240,16 +256,12 @@ impl UnstructuredBulk {
             let (is_q4, index) = match el.kind {
                 ElementKind::Q4 => {
                     q4.push([0, 1, 2, 3].map(|k| el.nodes[k] as u32));
-                    if !single {
-                        q4_material.push(element_material[e]);
-                    }
+                    q4_bound[material_of(e) + 1] += 1;
                     (true, q4.len() - 1)
                 }
                 ElementKind::T3 => {
                     t3.push([0, 1, 2].map(|k| el.nodes[k] as u32));
-                    if !single {
-                        t3_material.push(element_material[e]);
-                    }
+                    t3_bound[material_of(e) + 1] += 1;
                     (false, t3.len() - 1)
                 }
             };
@@ -257,6 +269,10 @@ impl UnstructuredBulk {
                 adj[fill[a] as usize] = (is_q4, index as u32, la as u8);
                 fill[a] += 1;
             }
+        }
+        for m in 0..nm {
+            q4_bound[m + 1] += q4_bound[m];
+            t3_bound[m + 1] += t3_bound[m];
         }
         let adj_of = |a: usize| &adj[adj_start[a] as usize..adj_start[a + 1] as usize];
 
@@ -287,7 +303,7 @@ impl UnstructuredBulk {
                     tile_q4.len() - q_first + fresh(true),
                     tile_t3.len() - t_first + fresh(false),
                 );
-                if buffer_len(nq, nt) > SCRATCH {
+                if padded_len(nq, nt, nm) > SCRATCH {
                     if a == first {
                         return Err(UnstructuredError::TooLarge);
                     }
@@ -325,13 +341,8 @@ impl UnstructuredBulk {
                 &tile_q4[t.q4[0] as usize..t.q4[1] as usize],
                 &tile_t3[t.t3[0] as usize..t.t3[1] as usize],
             );
-            for (p, &i) in lq.iter().enumerate() {
-                slot_q4[i as usize] = (p / L) * 8 * L + p % L;
-            }
-            let t3_base = buffer_len(lq.len(), 0);
-            for (p, &i) in lt.iter().enumerate() {
-                slot_t3[i as usize] = t3_base + (p / L) * 6 * L + p % L;
-            }
+            let t3_base = padded_slots(lq, &q4_bound, 8, 0, &mut slot_q4);
+            padded_slots(lt, &t3_bound, 6, t3_base, &mut slot_t3);
             for a in t.nodes[0] as usize..t.nodes[1] as usize {
                 for &(is_q4, i, la) in adj_of(a) {
                     let base = if is_q4 {
@@ -353,8 +364,8 @@ impl UnstructuredBulk {
             d: materials.iter().map(|m| m.d).collect(),
             q4,
             t3,
-            q4_material,
-            t3_material,
+            q4_bound,
+            t3_bound,
             tiles,
             tile_q4,
             tile_t3,
@@ -409,8 +420,8 @@ impl UnstructuredBulk {
         size_of_val(&self.pos[..])
             + size_of_val(&self.q4[..])
             + size_of_val(&self.t3[..])
-            + size_of_val(&self.q4_material[..])
-            + size_of_val(&self.t3_material[..])
+            + size_of_val(&self.q4_bound[..])
+            + size_of_val(&self.t3_bound[..])
             + size_of_val(&self.tiles[..])
             + size_of_val(&self.tile_q4[..])
             + size_of_val(&self.tile_t3[..])
@@ -488,6 +499,24 @@ impl UnstructuredBulk {
     }
 }
 
+/// The buffer offsets (x component, lane) of the elements `list` of one kind (ascending; `bound`
+/// its materials' ranges, `values` its buffer values per element: 8 for a Q4, 6 for a T3) from
+/// `base` on, each material's run starting a batch of its own, into `slot`; returns the offset
+/// after the last batch.
+fn padded_slots(list: &[u32], bound: &[u32], values: usize, base: usize, slot: &mut [usize]) -> usize {
+    let (mut run_base, mut run_first, mut run_material) = (base, 0, usize::MAX);
+    for (p, &i) in list.iter().enumerate() {
+        let m = material_in(bound, i);
+        if m != run_material {
+            run_base += (p - run_first).div_ceil(L) * L * values;
+            (run_first, run_material) = (p, m);
+        }
+        let r = p - run_first;
+        slot[i as usize] = run_base + (r / L) * values * L + r % L;
+    }
+    run_base + (list.len() - run_first).div_ceil(L) * L * values
+}
+
 /// Whether the element passes may use AVX-512F.
 fn avx512() -> bool {
     #[cfg(target_arch = "x86_64")]
@@ -523,81 +552,32 @@ type Batch<const N: usize> = [[[f64; 4]; L]; N];
 /// forwarding.
 #[inline(always)]
 fn element_forces(k: &UnstructuredBulk, q: &[u32], tr: &[u32], u: &[[f64; 2]], buf: &mut [f64; SCRATCH]) {
-    let (bq, bt) = buf.split_at_mut(buffer_len(q.len(), 0));
-    if k.d.len() == 1 {
-        let one = OneD(&k.d[0]);
-        batches::<4, Q4Pass, _>(&k.q4, &k.pos, one, u, q, bq);
-        batches::<3, T3Pass, _>(&k.t3, &k.pos, one, u, tr, bt);
-    } else {
-        let q4 = TableD {
-            table: &k.d,
-            material: &k.q4_material,
-        };
-        batches::<4, Q4Pass, _>(&k.q4, &k.pos, q4, u, q, bq);
-        let t3 = TableD {
-            table: &k.d,
-            material: &k.t3_material,
-        };
-        batches::<3, T3Pass, _>(&k.t3, &k.pos, t3, u, tr, bt);
+    // each material's elements (a run of the ascending list) in batches of their own, with its D
+    // (with one material, one run: the whole list), Q4 first, then T3 (the layout of `slots`)
+    let mut at = 0;
+    let mut rest = q;
+    for (m, d) in k.d.iter().enumerate() {
+        let run;
+        (run, rest) = rest.split_at(rest.partition_point(|&i| i < k.q4_bound[m + 1]));
+        let len = buffer_len(run.len(), 0);
+        batches::<4, Q4Pass>(&k.q4, &k.pos, d, u, run, &mut buf[at..at + len]);
+        at += len;
     }
-}
-
-/// D of each lane of a batch, `[i][j][lane]` [Pa] (structure of arrays, so that a lane loop
-/// reads it with vector loads).
-type LaneD = [[[f64; L]; 3]; 3];
-
-/// Where a batch's lanes find their D: one D for every element (the single-material kernel,
-/// whose code is the same as before materials existed), or a table and a material per element.
-trait Elasticity: Copy {
-    /// Stages the D of the elements `chunk` (1 to L of them; the last fills the lanes left over).
-    fn stage(self, chunk: &[u32], dst: &mut LaneD);
-    /// D of lane `l`, from what [`Elasticity::stage`] staged.
-    fn lane(self, staged: &LaneD, l: usize) -> [[f64; 3]; 3];
-}
-
-/// One D for every element.
-#[derive(Clone, Copy)]
-struct OneD<'a>(&'a [[f64; 3]; 3]);
-
-/// A D per element: `table[material[element]]`.
-#[derive(Clone, Copy)]
-struct TableD<'a> {
-    table: &'a [[[f64; 3]; 3]],
-    material: &'a [u8],
-}
-
-impl Elasticity for OneD<'_> {
-    #[inline(always)]
-    fn stage(self, _: &[u32], _: &mut LaneD) {}
-    #[inline(always)]
-    fn lane(self, _: &LaneD, _: usize) -> [[f64; 3]; 3] {
-        *self.0
-    }
-}
-
-impl Elasticity for TableD<'_> {
-    #[inline(always)]
-    fn stage(self, chunk: &[u32], dst: &mut LaneD) {
-        for l in 0..L {
-            let d = &self.table[self.material[chunk[l.min(chunk.len() - 1)] as usize] as usize];
-            for i in 0..3 {
-                for j in 0..3 {
-                    dst[i][j][l] = d[i][j];
-                }
-            }
-        }
-    }
-    #[inline(always)]
-    fn lane(self, staged: &LaneD, l: usize) -> [[f64; 3]; 3] {
-        [0, 1, 2].map(|i| [staged[i][0][l], staged[i][1][l], staged[i][2][l]])
+    let mut rest = tr;
+    for (m, d) in k.d.iter().enumerate() {
+        let run;
+        (run, rest) = rest.split_at(rest.partition_point(|&i| i < k.t3_bound[m + 1]));
+        let len = buffer_len(0, run.len());
+        batches::<3, T3Pass>(&k.t3, &k.pos, d, u, run, &mut buf[at..at + len]);
+        at += len;
     }
 }
 
 /// The force computation of one batch of an element kind with N corners. A trait rather than a
 /// closure: closures are not inlined into the AVX-512 pass, which stops its vectorisation.
 trait BatchPass<const N: usize> {
-    /// Forces of the batch `w`, lane l of D `e.lane(d, l)`, into `out` (2NL values).
-    fn forces<E: Elasticity>(w: &Batch<N>, e: E, d: &LaneD, out: &mut [f64]);
+    /// Forces of the batch `w` into `out` (2NL values).
+    fn forces(w: &Batch<N>, d: &[[f64; 3]; 3], out: &mut [f64]);
 }
 
 /// Q4 batches ([`q4_batch`]).
@@ -607,48 +587,42 @@ struct T3Pass;
 
 impl BatchPass<4> for Q4Pass {
     #[inline(always)]
-    fn forces<E: Elasticity>(w: &Batch<4>, e: E, d: &LaneD, out: &mut [f64]) {
-        q4_batch(w, e, d, out)
+    fn forces(w: &Batch<4>, d: &[[f64; 3]; 3], out: &mut [f64]) {
+        q4_batch(w, d, out)
     }
 }
 
 impl BatchPass<3> for T3Pass {
     #[inline(always)]
-    fn forces<E: Elasticity>(w: &Batch<3>, e: E, d: &LaneD, out: &mut [f64]) {
-        t3_batch(w, e, d, out)
+    fn forces(w: &Batch<3>, d: &[[f64; 3]; 3], out: &mut [f64]) {
+        t3_batch(w, d, out)
     }
 }
 
 /// One kind's element pass: the elements `list` in batches of L, each batch's forces (2N values
 /// per lane) into the next 2NL values of `out`, the next batch's corners gathered first.
 #[inline(always)]
-fn batches<const N: usize, P: BatchPass<N>, E: Elasticity>(
+fn batches<const N: usize, P: BatchPass<N>>(
     conn: &[[u32; N]],
     pos: &[[f64; 2]],
-    e: E,
+    d: &[[f64; 3]; 3],
     u: &[[f64; 2]],
     list: &[u32],
     out: &mut [f64],
 ) {
     let mut stage = [[[[0.0; 4]; L]; N]; 2];
-    let mut stage_d = [[[[0.0; L]; 3]; 3]; 2];
     let (s0, s1) = stage.split_at_mut(1);
     let (mut cur, mut next) = (&mut s0[0], &mut s1[0]);
-    let (d0, d1) = stage_d.split_at_mut(1);
-    let (mut cur_d, mut next_d) = (&mut d0[0], &mut d1[0]);
     let mut chunks = list.chunks(L);
     if let Some(c) = chunks.next() {
         gather(conn, pos, u, c, cur);
-        e.stage(c, cur_d);
     }
     for out in out.chunks_exact_mut(2 * N * L) {
         if let Some(c) = chunks.next() {
             gather(conn, pos, u, c, next);
-            e.stage(c, next_d);
         }
-        P::forces(cur, e, cur_d, out);
+        P::forces(cur, d, out);
         std::mem::swap(&mut cur, &mut next);
-        std::mem::swap(&mut cur_d, &mut next_d);
     }
 }
 
@@ -675,10 +649,9 @@ fn gather<const N: usize>(
 /// out[(2a + c)L + l] [N/m] for corner a, component c, lane l. ε = B u_e, σ = D ε,
 /// f_a = A B_aᵀσ = ½ (b_a σ_xx + c_a σ_xy, c_a σ_yy + b_a σ_xy).
 #[inline(always)]
-fn t3_batch<E: Elasticity>(w: &Batch<3>, el: E, lane_d: &LaneD, out: &mut [f64]) {
+fn t3_batch(w: &Batch<3>, d: &[[f64; 3]; 3], out: &mut [f64]) {
     let out: &mut [f64; 6 * L] = out.try_into().expect("a T3 batch is 6L values");
     for l in 0..L {
-        let d = &el.lane(lane_d, l);
         let (x0, x1, x2) = (w[0][l][0], w[1][l][0], w[2][l][0]);
         let (y0, y1, y2) = (w[0][l][1], w[1][l][1], w[2][l][1]);
         let b = [y1 - y2, y2 - y0, y0 - y1];
@@ -713,12 +686,11 @@ fn t3_batch<E: Elasticity>(w: &Batch<3>, el: E, lane_d: &LaneD, out: &mut [f64])
 /// N_a,η = ¼η_a(1 + ξξ_a) the Gauss sums collapse to f_a = ¼[ξ_a(ΣP + η_a ΣηP) + η_a(ΣQ + ξ_a ΣξQ)]
 /// (the same structure as `model::mapped::element_forces`).
 #[inline(always)]
-fn q4_batch<E: Elasticity>(w: &Batch<4>, el: E, lane_d: &LaneD, out: &mut [f64]) {
+fn q4_batch(w: &Batch<4>, d: &[[f64; 3]; 3], out: &mut [f64]) {
     let out: &mut [f64; 8 * L] = out.try_into().expect("a Q4 batch is 8L values");
     let g = 1.0 / 3f64.sqrt();
     // one element per lane, in a loop the optimiser vectorises (straight-line code, no calls)
     for l in 0..L {
-        let d = &el.lane(lane_d, l);
         // [k] = x, y, u_x, u_y: 4 ∂/∂ξ at η = −g, +g and 4 ∂/∂η at ξ = −g, +g
         let dv = [
             q4_derivatives(w, 0, l, g),
@@ -1292,10 +1264,12 @@ mod tests {
         assert_same_bits(&forces(&bulk, &u), &f);
     }
 
-    /// A table of one material repeated runs the per-element path, which must give the bits of
-    /// the one-material kernel (the two differ only in where a lane finds its D).
+    /// A table of one material repeated splits the elements into two runs of batches, which must
+    /// give the forces of the one-material kernel: to round-off (1e-12 of the largest force, as
+    /// the other kernel tests), since a node sums its elements in another order (by material
+    /// first).
     #[test]
-    fn a_table_of_one_material_gives_the_single_material_bits() {
+    fn a_table_of_one_material_gives_the_single_material_forces() {
         let mesh = distorted_mixed(30, 20, false);
         let m = material();
         let one = BulkMaterial {
@@ -1306,7 +1280,11 @@ mod tests {
         let index: Vec<u8> = (0..mesh.elements.len()).map(|e| (e % 2) as u8).collect();
         let table = UnstructuredBulk::with_materials(&mesh, &[one, one], &index).unwrap();
         let u = wobble(single.num_nodes());
-        assert_same_bits(&forces(&table, &u), &forces(&single, &u));
+        let (a, b) = (forces(&table, &u), forces(&single, &u));
+        let scale = b.iter().map(|v| v.norm()).fold(0.0, f64::max);
+        for (n, (a, b)) in a.iter().zip(&b).enumerate() {
+            assert!((a - b).norm() <= 1e-12 * scale, "node {n}: {a} vs {b}");
+        }
         assert_eq!(table.masses(), single.masses());
         assert!(matches!(
             UnstructuredBulk::with_materials(&mesh, &[one], &index),
