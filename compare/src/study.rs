@@ -358,6 +358,16 @@ mod tests {
         );
     }
 
+    /// A scene with several bulk materials is refused: the spectral model is two identical
+    /// half-spaces, so the comparison would not be of one problem.
+    #[test]
+    fn a_scene_with_several_materials_is_refused() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+        let e = Study::from_toml_str_in(&text("tiny-fem-bimaterial"), "b", Some(&dir)).unwrap_err();
+        let e = format!("{e:#}");
+        assert!(e.contains("fem.mesh.materials") && e.contains("identical"), "{e}");
+    }
+
     #[test]
     fn the_sinusoid_has_no_spectral_part_and_two_models() {
         let s = Study::from_toml_str(&text("sinusoidal-interface"), "s").unwrap();
