@@ -319,12 +319,27 @@ fn bad_surface_materials_are_refused_naming_the_key() {
     );
     // a surface of the file that the scene does not list as bulk
     let e = bimaterial_refused(LISTED, "bulk = [\"bar\"]");
-    assert!(e.contains("fem.mesh.materials.stiff") && e.contains("(bar)"), "{e}");
+    assert!(
+        e.contains("fem.mesh.materials.stiff") && e.contains("(bar)"),
+        "{e}"
+    );
     // values out of range, each named with its key
     for (from, to, key) in [
-        ("poisson_ratio = 0.35            # -\ndensity = 2460.0", "poisson_ratio = 0.5\ndensity = 2460.0", "fem.mesh.materials.stiff.poisson_ratio"),
-        ("youngs_modulus = 560e6", "youngs_modulus = -560e6", "fem.mesh.materials.stiff.youngs_modulus"),
-        ("density = 2460.0", "density = 0.0", "fem.mesh.materials.stiff.density"),
+        (
+            "poisson_ratio = 0.35            # -\ndensity = 2460.0",
+            "poisson_ratio = 0.5\ndensity = 2460.0",
+            "fem.mesh.materials.stiff.poisson_ratio",
+        ),
+        (
+            "youngs_modulus = 560e6",
+            "youngs_modulus = -560e6",
+            "fem.mesh.materials.stiff.youngs_modulus",
+        ),
+        (
+            "density = 2460.0",
+            "density = 0.0",
+            "fem.mesh.materials.stiff.density",
+        ),
     ] {
         let e = bimaterial_refused(from, to);
         assert!(e.contains(key), "{key}: {e}");
@@ -372,7 +387,11 @@ fn a_mesh_without_materials_is_one_material() {
     // h = 0.01 m nominally: Gmsh's transfinite nodes are uniform to about 1e-11 (measured 5.8e-12
     // off in the step); 1e-9 is far below the 50 % a stiff-part step would be off
     let expect = 0.5 * 0.01 / one.wave_speeds().cd;
-    assert!((one.time_step() - expect).abs() <= 1e-9 * expect, "{} vs {expect}", one.time_step());
+    assert!(
+        (one.time_step() - expect).abs() <= 1e-9 * expect,
+        "{} vs {expect}",
+        one.time_step()
+    );
     let soft = "youngs_modulus = 70e6\npoisson_ratio = 0.35\ndensity = 1230.0\n";
     let listed = format!("{LISTED}\n[fem.mesh.materials.soft]\n{soft}");
     let same = Scene::from_toml_str_in(&plain.replacen(LISTED, &listed, 1), &dir).unwrap();

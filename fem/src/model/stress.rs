@@ -43,7 +43,11 @@ pub(crate) fn facet_side<const N: usize>(
         Side::Plus => (row.elem_plus[c], &model.facet_faces[c][0], s),
         Side::Minus => (row.elem_minus[c], &model.facet_faces[c][1], s.map(|s| -s)),
     };
-    face.sample(model.d_of(e as usize), &element_displacements(model, e as usize, u), at)
+    face.sample(
+        model.d_of(e as usize),
+        &element_displacements(model, e as usize, u),
+        at,
+    )
 }
 
 /// Reference centroid [m] of element e and its mean stress [σ_xx, σ_yy, σ_xy] [Pa]: the mean of

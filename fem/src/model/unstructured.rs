@@ -1226,7 +1226,9 @@ mod tests {
             d: m.d_matrix(),
             density: m.density,
         });
-        let index: Vec<u8> = (0..mesh.elements.len()).map(|e| ((e * 7) % 3 == 0) as u8).collect();
+        let index: Vec<u8> = (0..mesh.elements.len())
+            .map(|e| ((e * 7) % 3 == 0) as u8)
+            .collect();
         let mut bulk = UnstructuredBulk::with_materials(&mesh, &table, &index).unwrap();
         let u = wobble(bulk.num_nodes());
         let f = forces(&bulk, &u);
@@ -1239,8 +1241,14 @@ mod tests {
         assert!(f.iter().zip(&one_d).any(|(a, b)| (a - b).norm() > 1e-3 * scale));
         // masses: ρ_e A_e over the elements
         let area = |e: usize| {
-            let c: Vec<Vector2<f64>> = mesh.elements[e].nodes.iter().map(|&a| mesh.positions[a]).collect();
-            0.5 * (0..c.len()).map(|k| c[k].perp(&c[(k + 1) % c.len()])).sum::<f64>()
+            let c: Vec<Vector2<f64>> = mesh.elements[e]
+                .nodes
+                .iter()
+                .map(|&a| mesh.positions[a])
+                .collect();
+            0.5 * (0..c.len())
+                .map(|k| c[k].perp(&c[(k + 1) % c.len()]))
+                .sum::<f64>()
         };
         let total: f64 = (0..mesh.elements.len())
             .map(|e| table[index[e] as usize].density * area(e))

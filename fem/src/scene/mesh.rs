@@ -307,7 +307,10 @@ fn element_materials(
                         }
                     };
                     return Err(inconsistent(
-                        format!("fem.mesh.materials.{}", roles.bulk[if given[s].is_some() { s } else { first }]),
+                        format!(
+                            "fem.mesh.materials.{}",
+                            roles.bulk[if given[s].is_some() { s } else { first }]
+                        ),
                         format!(
                             "element {} lies in the surfaces \"{}\" ({}) and \"{}\" ({}), which give it \
                              different materials",

@@ -77,7 +77,11 @@ fn crossing(v: &[(f64, f64)], level: f64) -> f64 {
 
 /// Mean of v_x over t ∈ [from, to] [s].
 fn mean(v: &[(f64, f64)], from: f64, to: f64) -> f64 {
-    let w: Vec<f64> = v.iter().filter(|s| s.0 >= from && s.0 <= to).map(|s| s.1).collect();
+    let w: Vec<f64> = v
+        .iter()
+        .filter(|s| s.0 >= from && s.0 <= to)
+        .map(|s| s.1)
+        .collect();
     assert!(w.len() > 20, "window [{from}, {to}] s holds {} samples", w.len());
     w.iter().sum::<f64>() / w.len() as f64
 }
@@ -142,8 +146,11 @@ fn the_stable_step_is_the_smallest_of_each_elements_own() {
     let mut h_min = f64::INFINITY;
     for (name, c) in [("soft", c1), ("stiff", c2)] {
         for &e in &mesh.groups[name].elements {
-            let corners: Vec<Vector2<f64>> =
-                mesh.elements[e].nodes.iter().map(|&n| mesh.positions[n]).collect();
+            let corners: Vec<Vector2<f64>> = mesh.elements[e]
+                .nodes
+                .iter()
+                .map(|&n| mesh.positions[n])
+                .collect();
             let h = quad_length(&corners);
             transit = transit.min(h / c);
             h_min = h_min.min(h);
