@@ -151,7 +151,8 @@ impl Scene {
         self.crack.map_or(0.0, |c| c.center_x)
     }
 
-    /// Plane-strain wave speeds [m/s].
+    /// Plane-strain wave speeds of `[material]` [m/s] (with `[fem.mesh.materials]`, of the
+    /// elements without a material of their own; [`Scene::materials`] lists every material).
     pub fn wave_speeds(&self) -> WaveSpeeds {
         self.material.wave_speeds()
     }

@@ -24,8 +24,8 @@ pub struct MeshSpec {
     /// Per interface curve (in the order of `roles.interface`): its own cohesive law, or `None`
     /// for the `[interface]` law.
     pub laws: Vec<Option<LinearCohesive>>,
-    /// The materials of `[fem.mesh.materials]`, in the order of their surfaces' names; empty
-    /// without it (every element of `[material]`).
+    /// The materials of `[fem.mesh.materials]`, in the order of their surfaces in `roles.bulk`;
+    /// empty without it (every element of `[material]`).
     pub materials: Vec<PlaneStrain>,
     /// Per element of the prepared mesh: 0 for `[material]`, k for `materials[k − 1]` (empty
     /// without `[fem.mesh.materials]`).
