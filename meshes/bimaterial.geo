@@ -1,6 +1,8 @@
 // A bar [0, 2.5] m x [0, 0.06] m of two materials in series along x, meshed with rectangles (Q4):
 // - "soft": 0 <= x <= 1 m, elements 0.01 m (x) by 0.015 m (y): h_e = A/l_max = 0.01 m;
 // - "stiff": 1 <= x <= 2.5 m, elements 0.015 m by 0.015 m: h_e = 0.015 m;
+// - "bar": both surfaces (a group overlapping the two: the scene tests name it to give one
+//   element two materials);
 // - "joint": the line x = 1 m between them (oriented along +y), a cohesive interface when a
 //   scene names it; "bottom", "top", "left", "right": the outer boundary.
 // The two element sizes make the stable step of a stiff right part (c_d twice the left's) come
@@ -30,6 +32,7 @@ Transfinite Surface{2};
 Recombine Surface{1, 2};
 Physical Surface("soft") = {1};
 Physical Surface("stiff") = {2};
+Physical Surface("bar") = {1, 2};
 Physical Curve("joint") = {7};
 Physical Curve("bottom") = {1, 2};
 Physical Curve("top") = {4, 5};

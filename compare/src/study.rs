@@ -143,6 +143,13 @@ impl Study {
                 None
             }
         };
+        if fem.as_ref().is_some_and(fem::Scene::has_several_materials) {
+            bail!(
+                "fem.mesh.materials gives the bulk several materials, and the spectral model the \
+                 harness compares with is two identical half-spaces of [material]: the comparison \
+                 would not be of one problem (run the scene with the fem binary alone)"
+            );
+        }
         let (harness, unknown) =
             preflight::parse::<HarnessPart>(text).map_err(|m| anyhow!("[compare] does not parse: {m}"))?;
         // the harness reads only [compare]: keys it does not know elsewhere belong to the models
@@ -349,6 +356,16 @@ mod tests {
             (c.shift() / c.duration - 0.02068).abs() < 1e-4,
             "a/c_d = 0.0207 T"
         );
+    }
+
+    /// A scene with several bulk materials is refused: the spectral model is two identical
+    /// half-spaces, so the comparison would not be of one problem.
+    #[test]
+    fn a_scene_with_several_materials_is_refused() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+        let e = Study::from_toml_str_in(&text("tiny-fem-bimaterial"), "b", Some(&dir)).unwrap_err();
+        let e = format!("{e:#}");
+        assert!(e.contains("fem.mesh.materials") && e.contains("identical"), "{e}");
     }
 
     #[test]

@@ -6,7 +6,7 @@
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use fem::gmsh::{BulkElement, ElementKind, UnstructuredMesh};
-use fem::model::unstructured::UnstructuredBulk;
+use fem::model::unstructured::{BulkMaterial, UnstructuredBulk};
 use fem::nalgebra::Vector2;
 
 /// A smooth, non-trivial displacement field of n nodes [m].
@@ -65,11 +65,27 @@ fn grid_mesh(nx: usize, ny: usize, triangles: bool) -> UnstructuredMesh {
     }
 }
 
-/// Benchmarks one f_int evaluation of the unstructured kernel on a 500 × 250 grid mesh.
-fn bench_unstructured(c: &mut Criterion, name: &str, triangles: bool) {
+/// Benchmarks one f_int evaluation of the unstructured kernel on a 500 × 250 grid mesh; with
+/// `two_materials`, the elements of the right half have a second material (the per-element D
+/// path of `[fem.mesh.materials]`).
+fn bench_unstructured(c: &mut Criterion, name: &str, triangles: bool, two_materials: bool) {
     let mesh = grid_mesh(500, 250, triangles);
     let mat = fem::law::elastic::PlaneStrain::new(70e6, 0.35, 1230.0);
-    let bulk = UnstructuredBulk::new(&mesh, &mat.d_matrix(), mat.density).unwrap();
+    let bulk = if two_materials {
+        let stiff = fem::law::elastic::PlaneStrain::new(560e6, 0.35, 2460.0);
+        let table = [mat, stiff].map(|m| BulkMaterial {
+            d: m.d_matrix(),
+            density: m.density,
+        });
+        let index: Vec<u8> = mesh
+            .elements
+            .iter()
+            .map(|e| (mesh.positions[e.nodes[0]].x >= 0.25) as u8)
+            .collect();
+        UnstructuredBulk::with_materials(&mesh, &table, &index).unwrap()
+    } else {
+        UnstructuredBulk::new(&mesh, &mat.d_matrix(), mat.density).unwrap()
+    };
     let n = bulk.num_nodes();
     println!(
         "{name}: kernel arrays {} B for {n} nodes, {:.1} B per node",
@@ -87,8 +103,10 @@ fn bench_unstructured(c: &mut Criterion, name: &str, triangles: bool) {
 fn bench(c: &mut Criterion) {
     bench_scene(c, "center_crack_500x250", "center-crack.toml");
     bench_scene(c, "sinusoid_mapped_750x250", "sinusoidal-interface.toml");
-    bench_unstructured(c, "unstructured_q4_500x250", false);
-    bench_unstructured(c, "unstructured_t3_500x250x2", true);
+    bench_unstructured(c, "unstructured_q4_500x250", false, false);
+    bench_unstructured(c, "unstructured_t3_500x250x2", true, false);
+    bench_unstructured(c, "unstructured_q4_500x250_two_materials", false, true);
+    bench_unstructured(c, "unstructured_t3_500x250x2_two_materials", true, true);
 }
 
 criterion_group!(benches, bench);

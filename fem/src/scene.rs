@@ -152,7 +152,8 @@ impl Scene {
         self.crack.map_or(0.0, |c| c.center_x)
     }
 
-    /// Plane-strain wave speeds [m/s].
+    /// Plane-strain wave speeds of `[material]` [m/s] (with `[fem.mesh.materials]`, of the
+    /// elements without a material of their own; [`Scene::materials`] lists every material).
     pub fn wave_speeds(&self) -> WaveSpeeds {
         self.material.wave_speeds()
     }
@@ -168,14 +169,44 @@ impl Scene {
     }
 
     /// Largest stable step [s]: docs/fem-model.md §2 with α = 0.95 (the largest allowed safety factor).
+    /// With several materials (`[fem.mesh.materials]`), the smallest over the elements of
+    /// α h_e/c_d,e · f(ε h_e/E_e), each element with its own length and material: per material
+    /// that is its shortest element's, since h f(εh/E) grows with h.
     pub fn stable_limit(&self) -> f64 {
-        let h = self.fem.min_edge();
+        match self.fem.mesh.as_ref().filter(|m| !m.materials.is_empty()) {
+            None => self.stable_limit_of(&self.material, self.fem.min_edge()),
+            Some(m) => std::iter::once(&self.material)
+                .chain(&m.materials)
+                .zip(&m.min_length)
+                .filter(|(_, h)| h.is_finite())
+                .map(|(mat, &h)| self.stable_limit_of(mat, h))
+                .fold(f64::INFINITY, f64::min),
+        }
+    }
+
+    /// The stable step [s] of elements of `material` and length `h` [m].
+    fn stable_limit_of(&self, material: &PlaneStrain, h: f64) -> f64 {
         let beta_p = if self.has_penalty() {
-            self.fem.eps_n.max(self.fem.eps_t) * h / self.material.youngs_modulus
+            self.fem.eps_n.max(self.fem.eps_t) * h / material.youngs_modulus
         } else {
             0.0
         };
-        crate::law::elastic::stable_time_step(fem::MAX_SAFETY, h, self.wave_speeds().cd, beta_p)
+        crate::law::elastic::stable_time_step(fem::MAX_SAFETY, h, material.wave_speeds().cd, beta_p)
+    }
+
+    /// Every bulk material of the scene: `[material]`, then those of `[fem.mesh.materials]`
+    /// (element material index k is the k-th).
+    pub fn materials(&self) -> Vec<PlaneStrain> {
+        let mut out = vec![self.material];
+        if let Some(m) = &self.fem.mesh {
+            out.extend(&m.materials);
+        }
+        out
+    }
+
+    /// Whether the bulk has several materials (`[fem.mesh.materials]` given).
+    pub fn has_several_materials(&self) -> bool {
+        self.fem.mesh.as_ref().is_some_and(|m| !m.materials.is_empty())
     }
 }
 

@@ -388,3 +388,120 @@ fn a_support_that_ends_at_an_interface_end_holds_the_tied_pair() {
         worst.1
     );
 }
+
+/// `scenes/tiny-fem-bimaterial.toml` (a bar of "soft" = `[material]` and "stiff" of its own) with
+/// each `from` replaced by its `to`, read from the scenes folder.
+fn bimaterial(edits: &[(&str, &str)]) -> Result<Scene, fem::SceneError> {
+    let mut text = scene_text("tiny-fem-bimaterial");
+    for (from, to) in edits {
+        assert!(text.contains(from), "{from}");
+        text = text.replacen(from, to, 1);
+    }
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+    Scene::from_toml_str_in(&text, &dir)
+}
+
+fn bimaterial_refused(from: &str, to: &str) -> String {
+    match bimaterial(&[(from, to)]) {
+        Ok(_) => panic!("the scene was accepted"),
+        Err(e) => e.to_string(),
+    }
+}
+
+/// The values of the scene's "stiff" material, as a TOML body.
+const STIFF: &str = "youngs_modulus = 560e6\npoisson_ratio = 0.35\ndensity = 2460.0\n";
+const LISTED: &str = "bulk = [\"soft\", \"stiff\"]";
+
+/// Materials that name no bulk surface, bad values, a missing value, one element given two
+/// materials and the Westergaard boundary field with several materials are refused at
+/// validation, naming the key as written.
+#[test]
+fn bad_surface_materials_are_refused_naming_the_key() {
+    assert!(bimaterial(&[]).unwrap().has_several_materials());
+    // a name that is no listed bulk surface, with the list
+    let e = bimaterial_refused("materials.stiff]", "materials.stif]");
+    assert!(
+        e.contains("fem.mesh.materials.stif") && e.contains("soft, stiff"),
+        "{e}"
+    );
+    // a surface of the file that the scene does not list as bulk
+    let e = bimaterial_refused(LISTED, "bulk = [\"bar\"]");
+    assert!(
+        e.contains("fem.mesh.materials.stiff") && e.contains("(bar)"),
+        "{e}"
+    );
+    // values out of range, each named with its key
+    for (from, to, key) in [
+        (
+            "poisson_ratio = 0.35            # -\ndensity = 2460.0",
+            "poisson_ratio = 0.5\ndensity = 2460.0",
+            "fem.mesh.materials.stiff.poisson_ratio",
+        ),
+        (
+            "youngs_modulus = 560e6",
+            "youngs_modulus = -560e6",
+            "fem.mesh.materials.stiff.youngs_modulus",
+        ),
+        (
+            "density = 2460.0",
+            "density = 0.0",
+            "fem.mesh.materials.stiff.density",
+        ),
+    ] {
+        let e = bimaterial_refused(from, to);
+        assert!(e.contains(key), "{key}: {e}");
+    }
+    // all three values are required
+    let e = bimaterial_refused("density = 2460.0", "");
+    assert!(e.contains("density"), "{e}");
+    // an element in "stiff" (its own material) and in "bar" ([material])
+    let e = bimaterial_refused(LISTED, "bulk = [\"soft\", \"stiff\", \"bar\"]");
+    assert!(
+        e.contains("fem.mesh.materials.stiff")
+            && e.contains("\"stiff\"")
+            && e.contains("\"bar\"")
+            && e.contains("different materials"),
+        "{e}"
+    );
+    // an element in two surfaces given the same material is fine
+    let same = format!(
+        "bulk = [\"soft\", \"stiff\", \"bar\"]\n[fem.mesh.materials.bar]\n{STIFF}[fem.mesh.materials.soft]\n{STIFF}"
+    );
+    assert!(bimaterial(&[(LISTED, &same)]).unwrap().has_several_materials());
+    // the Westergaard field (no [fem.boundary]) is the field of one material
+    let text = scene_text("tiny-fem-bimaterial");
+    let cut = &text[..text.find("# rollers").unwrap()];
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+    let e = Scene::from_toml_str_in(cut, &dir).unwrap_err().to_string();
+    assert!(e.contains("fem.boundary") && e.contains("one material"), "{e}");
+}
+
+/// Without `[fem.mesh.materials]` the mesh is one material: with "bar" its only bulk surface, the
+/// step is the soft part's α h/c_d (h = 0.01 m); with the "soft" surface given `[material]`'s own
+/// values, the step is the same to the bit.
+#[test]
+fn a_mesh_without_materials_is_one_material() {
+    // the scene without its [fem.mesh.materials.stiff] block
+    let text = scene_text("tiny-fem-bimaterial");
+    let (a, b) = (
+        text.find("[fem.mesh.materials.stiff]").unwrap(),
+        text.find("# rollers").unwrap(),
+    );
+    let plain = format!("{}{}", &text[..a], &text[b..]);
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+    let one = Scene::from_toml_str_in(&plain.replacen(LISTED, "bulk = [\"bar\"]", 1), &dir).unwrap();
+    assert!(!one.has_several_materials());
+    // h = 0.01 m nominally: Gmsh's transfinite nodes are uniform to about 1e-11 (measured 5.8e-12
+    // off in the step); 1e-9 is far below the 50 % a stiff-part step would be off
+    let expect = 0.5 * 0.01 / one.wave_speeds().cd;
+    assert!(
+        (one.time_step() - expect).abs() <= 1e-9 * expect,
+        "{} vs {expect}",
+        one.time_step()
+    );
+    let soft = "youngs_modulus = 70e6\npoisson_ratio = 0.35\ndensity = 1230.0\n";
+    let listed = format!("{LISTED}\n[fem.mesh.materials.soft]\n{soft}");
+    let same = Scene::from_toml_str_in(&plain.replacen(LISTED, &listed, 1), &dir).unwrap();
+    assert!(same.has_several_materials());
+    assert_eq!(same.time_step(), one.time_step());
+}

@@ -50,11 +50,12 @@ fn bulk_piece(model: &Model, state: &State) -> FieldPiece {
         shapes: Vec::with_capacity(ne),
         ..FieldPiece::default()
     };
-    let d = &model.d;
-    // plane strain: σ_zz = λ (ε_xx + ε_yy) = λ/(2(λ + μ)) (σ_xx + σ_yy), with D₀₀ = λ + 2μ, D₀₁ = λ
-    let nu = d[0][1] / (d[0][0] + d[0][1]);
     let mut s = [(); 5].map(|_| Vec::with_capacity(ne));
     for e in 0..ne {
+        // plane strain: σ_zz = λ (ε_xx + ε_yy) = λ/(2(λ + μ)) (σ_xx + σ_yy), with D₀₀ = λ + 2μ,
+        // D₀₁ = λ of the element's own material
+        let d = model.d_of(e);
+        let nu = d[0][1] / (d[0][0] + d[0][1]);
         let nodes = model.element_nodes(e);
         let shape = match nodes.as_slice().len() {
             3 => CellShape::Triangle,
@@ -318,6 +319,57 @@ mod tests {
         assert_eq!(crack.points.len(), 2 * row.plus.len());
         assert_eq!(crack.num_cells(), 2 * row.num_facets());
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// Two materials (`scenes/tiny-fem-bimaterial.toml` with the stiff part's ν made 0.25): under
+    /// one uniform strain every element's stresses, σ_zz = ν_e(σ_xx + σ_yy) included, are those
+    /// of its own material (λ_e, G_e); the same round-off margin as above. Reading the first
+    /// material everywhere misses the stiff part's σ_xx by a factor 8.
+    #[test]
+    fn each_element_shows_the_stress_of_its_own_material() {
+        let text = crate::test_scenes::scene_text("tiny-fem-bimaterial").replacen(
+            "poisson_ratio = 0.35            # -\ndensity = 2460.0",
+            "poisson_ratio = 0.25\ndensity = 2460.0",
+            1,
+        );
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+        let scene = Scene::from_toml_str_in(&text, &dir).unwrap();
+        let materials = scene.materials();
+        assert_eq!(materials[1].poisson_ratio, 0.25);
+        let (model, mut state, _) = crate::build(&scene).unwrap();
+        let (exx, eyy, gxy) = (2e-4, -5e-4, 2e-4);
+        for (u, x) in state.u.iter_mut().zip(&model.x0) {
+            *u = Vector2::new(exx * x.x + gxy * x.y, eyy * x.y);
+        }
+        let snap = snapshot(&model, &state);
+        let (sxx, szz) = (scalars(&snap.bulk, "sigma_xx"), scalars(&snap.bulk, "sigma_zz"));
+        let mut seen = [0usize; 2];
+        for e in 0..model.num_elements() {
+            let nodes = model.element_nodes(e);
+            let cx = nodes
+                .as_slice()
+                .iter()
+                .map(|&n| model.x0[n as usize].x)
+                .sum::<f64>()
+                / 4.0;
+            let k = usize::from(cx > 1.0);
+            seen[k] += 1;
+            let (l, g) = (materials[k].lambda, materials[k].shear_modulus);
+            let (xx, yy) = ((l + 2.0 * g) * exx + l * eyy, l * exx + (l + 2.0 * g) * eyy);
+            let zz = l * (exx + eyy);
+            let scale = xx.abs().max(yy.abs());
+            assert!(
+                (sxx[e] - xx).abs() <= 1e-10 * scale,
+                "element {e}: σ_xx {} vs {xx}",
+                sxx[e]
+            );
+            assert!(
+                (szz[e] - zz).abs() <= 1e-10 * scale,
+                "element {e}: σ_zz {} vs {zz}",
+                szz[e]
+            );
+        }
+        assert_eq!(seen, [400, 400]);
     }
 
     #[test]

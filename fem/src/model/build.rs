@@ -13,7 +13,7 @@ use crate::model::mapped::{GaussShape, MappedStiffness, Trapezoid};
 use crate::model::state::{
     BoundaryDof, BulkMesh, ContactPart, ElementNodes, EnergyTotals, Facets, GmshBulk, Model, State, Workspace,
 };
-use crate::model::unstructured::UnstructuredBulk;
+use crate::model::unstructured::{BulkMaterial, UnstructuredBulk};
 use crate::scene::MeshSpec;
 use crate::scene::{ContactSurface, ModelKind, Scene, zone_of};
 use nalgebra::Vector2;
@@ -65,7 +65,15 @@ pub fn build_with_row_map(
 /// The model on the scene's Gmsh mesh, split along its interface at validation.
 fn build_on_mesh(scene: &Scene, spec: &MeshSpec) -> Result<(Model, State, Workspace), BuildError> {
     let p = &spec.prepared;
-    let kernel = UnstructuredBulk::new(&p.mesh, &scene.material.d_matrix(), scene.material.density)?;
+    let materials: Vec<BulkMaterial> = scene
+        .materials()
+        .iter()
+        .map(|m| BulkMaterial {
+            d: m.d_matrix(),
+            density: m.density,
+        })
+        .collect();
+    let kernel = UnstructuredBulk::with_materials(&p.mesh, &materials, &spec.element_material)?;
     let elements = p
         .mesh
         .elements
@@ -141,10 +149,16 @@ pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State,
     let mut model = Model {
         deferred,
         mesh,
-        d: scene.material.d_matrix(),
+        d: scene.materials().iter().map(|m| m.d_matrix()).collect(),
+        element_material: f.mesh.as_ref().map_or(Vec::new(), |m| m.element_material.clone()),
         mass,
         dt: scene.time_step(),
-        cd: scene.wave_speeds().cd,
+        // the guard against a blow-up: no node outruns 10 times the fastest material's c_d
+        cd: scene
+            .materials()
+            .iter()
+            .map(|m| m.wave_speeds().cd)
+            .fold(0.0, f64::max),
         facet_detect: facet_law
             .iter()
             .map(|&k| match f.contact_surface {

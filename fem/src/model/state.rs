@@ -35,12 +35,15 @@ pub struct Model {
     /// Reference node positions X [m] (twins share a position).
     pub(crate) x0: Vec<Vector2<f64>>,
     pub(crate) mesh: BulkMesh,
-    pub(crate) d: [[f64; 3]; 3],
+    /// Plane-strain Voigt matrix D [Pa] of each bulk material (0: `[material]`).
+    pub(crate) d: Vec<[[f64; 3]; 3]>,
+    /// Material index of each bulk element (empty: every element is of material 0).
+    pub(crate) element_material: Vec<u8>,
     /// Lumped nodal mass [kg/m].
     pub(crate) mass: Vec<f64>,
     /// Time step Δt [s].
     pub(crate) dt: f64,
-    /// Dilatational speed c_d [m/s] (stability guard).
+    /// Dilatational speed c_d [m/s] (stability guard; the fastest material's).
     pub(crate) cd: f64,
     pub(crate) iface: Option<InterfaceRow>,
     /// Stress sampling of the (+, −) elements of each interface facet (insertion checks).
@@ -253,6 +256,12 @@ impl Model {
             BulkMesh::Grid { grid, .. } => Some(grid),
             BulkMesh::Gmsh(_) => None,
         }
+    }
+
+    /// Plane-strain Voigt matrix D [Pa] of bulk element `e`'s material.
+    #[inline]
+    pub(crate) fn d_of(&self, e: usize) -> &[[f64; 3]; 3] {
+        &self.d[self.element_material.get(e).copied().unwrap_or(0) as usize]
     }
 
     /// The nodes of bulk element `e`, counter-clockwise.

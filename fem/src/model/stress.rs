@@ -43,7 +43,11 @@ pub(crate) fn facet_side<const N: usize>(
         Side::Plus => (row.elem_plus[c], &model.facet_faces[c][0], s),
         Side::Minus => (row.elem_minus[c], &model.facet_faces[c][1], s.map(|s| -s)),
     };
-    face.sample(&model.d, &element_displacements(model, e as usize, u), at)
+    face.sample(
+        model.d_of(e as usize),
+        &element_displacements(model, e as usize, u),
+        at,
+    )
 }
 
 /// Reference centroid [m] of element e and its mean stress [σ_xx, σ_yy, σ_xy] [Pa]: the mean of
@@ -55,9 +59,9 @@ pub(crate) fn element_mean(model: &Model, e: usize, u: &[Vector2<f64>]) -> (Vect
     let ue = element_displacements(model, e, u);
     let face = face_of(&model.x0, nodes, 0);
     let sig = match face {
-        FaceStress::T3 { .. } => face.sample(&model.d, &ue, [0.0])[0],
+        FaceStress::T3 { .. } => face.sample(model.d_of(e), &ue, [0.0])[0],
         FaceStress::Q4 { grads, .. } => {
-            let sig = bulk::gauss_stresses(&grads, &model.d, &ue);
+            let sig = bulk::gauss_stresses(&grads, model.d_of(e), &ue);
             [0, 1, 2].map(|p| sig.iter().map(|q| q[p]).sum::<f64>() / 4.0)
         }
     };

@@ -13,7 +13,7 @@
 //!   element (docs/fem-model.md §1).
 //!
 //! Storage: no element matrix is stored. The kernel keeps the node positions (16 B per node), the
-//! shared D, the connectivity (12 B per T3, 16 B per Q4) and, per node, one 2-byte slot per
+//! D of each material (one unless `[fem.mesh.materials]` gives more), the connectivity (12 B per T3, 16 B per Q4) and, per node, one 2-byte slot per
 //! adjacent element. Each evaluation recomputes the element forces f_e = Bᵀσ from the positions,
 //! as explicit codes do (Belytschko, Liu & Moran, *Nonlinear Finite Elements for Continua and
 //! Structures*, ch. 4: internal nodal forces f_e = ∫ Bᵀσ dΩ from ε = B u_e and σ = D ε): about
@@ -25,7 +25,9 @@
 //! elements adjacent to its nodes (those on a tile's edge are listed by both neighbours and
 //! computed twice), computes their forces into a buffer on the stack (256 KiB: it stays in the
 //! core's L2), and every node then sums its elements' forces from that buffer through its slots,
-//! in a fixed order (elements sorted by their lowest node, then by mesh index). Tiles run in
+//! in a fixed order (elements sorted by their material, then their lowest node, then mesh index).
+//! Each material's elements run in batches of their own with that material's D, so the batch
+//! code is the one-material code whatever the number of materials. Tiles run in
 //! parallel and write disjoint node ranges, so the result is the same to the bit for any number of
 //! threads, and the element passes use the same operations with or without AVX-512.
 
@@ -63,6 +65,9 @@ pub enum UnstructuredError {
     /// A density that is not finite and positive.
     #[error("density = {0} kg/m³ must be finite and positive")]
     BadDensity(f64),
+    /// No material, more than 256, or an element material index out of range or missing.
+    #[error("every element needs a material index into 1 to 256 materials")]
+    BadMaterials,
     /// More nodes or element entries than the 32-bit indices of the kernel hold, or a node with
     /// more elements than one tile's buffer holds.
     #[error("the mesh is too large for the kernel's 32-bit indices")]
@@ -80,17 +85,37 @@ struct Tile {
     t3: [u32; 2],
 }
 
+/// The elastic constants of one material of the kernel.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BulkMaterial {
+    /// Plane-strain Voigt matrix D [Pa] ([`crate::law::elastic::PlaneStrain::d_matrix`]).
+    pub d: [[f64; 3]; 3],
+    /// Density ρ [kg/m³].
+    pub density: f64,
+}
+
+impl BulkMaterial {
+    /// Dilatational (P-wave) speed c_d = √(D₀₀/ρ) [m/s], D₀₀ = λ + 2G.
+    pub fn cd(&self) -> f64 {
+        (self.d[0][0] / self.density).sqrt()
+    }
+}
+
 /// The bulk of an unstructured T3/Q4 mesh, ready for force evaluations.
 #[derive(Debug, Clone)]
 pub struct UnstructuredBulk {
     /// Node positions (x, y) [m].
     pos: Vec<[f64; 2]>,
-    /// Plane-strain Voigt matrix D [Pa].
-    d: [[f64; 3]; 3],
-    /// Node indices of each Q4, sorted by lowest node then mesh index.
+    /// Plane-strain Voigt matrix D [Pa] of each material (at most 256).
+    d: Vec<[[f64; 3]; 3]>,
+    /// Node indices of each Q4, sorted by material, then lowest node, then mesh index.
     q4: Vec<[u32; 4]>,
     /// Node indices of each T3, sorted as the Q4.
     t3: Vec<[u32; 3]>,
+    /// The Q4 of material m are `q4[q4_bound[m]..q4_bound[m + 1]]` (one entry per material, + 1).
+    q4_bound: Vec<u32>,
+    /// The T3 of material m are `t3[t3_bound[m]..t3_bound[m + 1]]`.
+    t3_bound: Vec<u32>,
     /// The tiles, covering the nodes in order.
     tiles: Vec<Tile>,
     /// Each tile's Q4 (indices into `q4`), ascending.
@@ -106,6 +131,9 @@ pub struct UnstructuredBulk {
     mass: Vec<f64>,
     /// Smallest element length of the stable step [m] (see [`UnstructuredBulk::min_length`]).
     h_min: f64,
+    /// Smallest transit time h_e/c_d,e over the elements [s] (see
+    /// [`UnstructuredBulk::min_transit_time`]).
+    min_transit: f64,
     /// Tiles one rayon task runs in a row (sharing one zeroed buffer), about 1/8 of the tiles.
     tiles_per_task: usize,
     /// The CPU has AVX-512F (the element passes run in 512-bit registers).
@@ -117,12 +145,47 @@ fn buffer_len(nq: usize, nt: usize) -> usize {
     nq.div_ceil(L) * L * 8 + nt.div_ceil(L) * L * 6
 }
 
+/// The most buffer values `nq` Q4 and `nt` T3 of `materials` materials take: each material's
+/// elements start a batch of their own, so each material after the first may add a partial batch
+/// of each kind.
+fn padded_len(nq: usize, nt: usize, materials: usize) -> usize {
+    buffer_len(nq, nt) + (materials - 1) * L * (8 + 6)
+}
+
+/// The material m whose range `bound[m]..bound[m + 1]` holds element `i`.
+fn material_in(bound: &[u32], i: u32) -> usize {
+    bound.partition_point(|&b| b <= i) - 1
+}
+
 impl UnstructuredBulk {
     /// Builds the kernel on `mesh` with the plane-strain Voigt matrix `d` [Pa]
     /// ([`crate::law::elastic::PlaneStrain::d_matrix`]) and the density `density` [kg/m³].
     pub fn new(mesh: &UnstructuredMesh, d: &[[f64; 3]; 3], density: f64) -> Result<Self, UnstructuredError> {
-        if !(density.is_finite() && density > 0.0) {
-            return Err(UnstructuredError::BadDensity(density));
+        Self::with_materials(mesh, &[BulkMaterial { d: *d, density }], &[])
+    }
+
+    /// Builds the kernel on `mesh` with several materials: element e (in the mesh's order) is of
+    /// `materials[element_material[e]]`; an empty `element_material` puts every element in
+    /// `materials[0]`. Masses, forces and the stable step then use each element's own material.
+    pub fn with_materials(
+        mesh: &UnstructuredMesh,
+        materials: &[BulkMaterial],
+        element_material: &[u8],
+    ) -> Result<Self, UnstructuredError> {
+        if let Some(m) = materials
+            .iter()
+            .find(|m| !(m.density.is_finite() && m.density > 0.0))
+        {
+            return Err(UnstructuredError::BadDensity(m.density));
+        }
+        let single = element_material.is_empty();
+        let material_of = |e: usize| if single { 0 } else { element_material[e] as usize };
+        if materials.is_empty()
+            || materials.len() > 256
+            || !(single || element_material.len() == mesh.elements.len())
+            || (0..mesh.elements.len()).any(|e| material_of(e) >= materials.len())
+        {
+            return Err(UnstructuredError::BadMaterials);
         }
         let nn = mesh.positions.len();
         let total: usize = mesh.elements.iter().map(|e| e.nodes.len()).sum();
@@ -133,7 +196,8 @@ impl UnstructuredBulk {
 
         // validity and masses
         let mut mass = vec![0.0; nn];
-        for el in &mesh.elements {
+        for (e, el) in mesh.elements.iter().enumerate() {
+            let density = materials[material_of(e)].density;
             let inverted = |det_j: f64| UnstructuredError::InvertedElement {
                 element: el.tag,
                 det_j,
@@ -164,13 +228,19 @@ impl UnstructuredBulk {
             }
         }
         let h_min = min_element_length(mesh);
+        let min_transit = (0..mesh.elements.len())
+            .map(|e| element_length(mesh, e) / materials[material_of(e)].cd())
+            .fold(f64::INFINITY, f64::min);
 
-        // the kernel's element order: by lowest node, then mesh index (elements that share nodes
+        // the kernel's element order: by material (each material's elements run in batches of
+        // their own, with one D), then lowest node, then mesh index (elements that share nodes
         // end up close together, whatever order the mesh file has them in)
         let mut order: Vec<usize> = (0..mesh.elements.len()).collect();
-        order.sort_by_key(|&e| (mesh.elements[e].nodes.iter().min().copied(), e));
+        order.sort_by_key(|&e| (material_of(e), mesh.elements[e].nodes.iter().min().copied(), e));
         let mut q4 = Vec::new();
         let mut t3 = Vec::new();
+        let nm = materials.len();
+        let (mut q4_bound, mut t3_bound) = (vec![0u32; nm + 1], vec![0u32; nm + 1]);
         // node → (Q4?, index in q4 or t3, local node) in CSR form, in the kernel's element order
         let mut adj_start = vec![0u32; nn + 1];
         for &a in mesh.elements.iter().flat_map(|el| &el.nodes) {
@@ -186,10 +256,12 @@ impl UnstructuredBulk {
             let (is_q4, index) = match el.kind {
                 ElementKind::Q4 => {
                     q4.push([0, 1, 2, 3].map(|k| el.nodes[k] as u32));
+                    q4_bound[material_of(e) + 1] += 1;
                     (true, q4.len() - 1)
                 }
                 ElementKind::T3 => {
                     t3.push([0, 1, 2].map(|k| el.nodes[k] as u32));
+                    t3_bound[material_of(e) + 1] += 1;
                     (false, t3.len() - 1)
                 }
             };
@@ -197,6 +269,10 @@ impl UnstructuredBulk {
                 adj[fill[a] as usize] = (is_q4, index as u32, la as u8);
                 fill[a] += 1;
             }
+        }
+        for m in 0..nm {
+            q4_bound[m + 1] += q4_bound[m];
+            t3_bound[m + 1] += t3_bound[m];
         }
         let adj_of = |a: usize| &adj[adj_start[a] as usize..adj_start[a + 1] as usize];
 
@@ -227,7 +303,7 @@ impl UnstructuredBulk {
                     tile_q4.len() - q_first + fresh(true),
                     tile_t3.len() - t_first + fresh(false),
                 );
-                if buffer_len(nq, nt) > SCRATCH {
+                if padded_len(nq, nt, nm) > SCRATCH {
                     if a == first {
                         return Err(UnstructuredError::TooLarge);
                     }
@@ -265,13 +341,8 @@ impl UnstructuredBulk {
                 &tile_q4[t.q4[0] as usize..t.q4[1] as usize],
                 &tile_t3[t.t3[0] as usize..t.t3[1] as usize],
             );
-            for (p, &i) in lq.iter().enumerate() {
-                slot_q4[i as usize] = (p / L) * 8 * L + p % L;
-            }
-            let t3_base = buffer_len(lq.len(), 0);
-            for (p, &i) in lt.iter().enumerate() {
-                slot_t3[i as usize] = t3_base + (p / L) * 6 * L + p % L;
-            }
+            let t3_base = padded_slots(lq, &q4_bound, 8, 0, &mut slot_q4);
+            padded_slots(lt, &t3_bound, 6, t3_base, &mut slot_t3);
             for a in t.nodes[0] as usize..t.nodes[1] as usize {
                 for &(is_q4, i, la) in adj_of(a) {
                     let base = if is_q4 {
@@ -290,9 +361,11 @@ impl UnstructuredBulk {
         let tiles_per_task = (tiles.len() / 8).max(1);
         Ok(Self {
             pos: x.iter().map(|p| [p.x, p.y]).collect(),
-            d: *d,
+            d: materials.iter().map(|m| m.d).collect(),
             q4,
             t3,
+            q4_bound,
+            t3_bound,
             tiles,
             tile_q4,
             tile_t3,
@@ -300,6 +373,7 @@ impl UnstructuredBulk {
             slots,
             mass,
             h_min,
+            min_transit,
             tiles_per_task,
             avx512: avx512(),
         })
@@ -333,12 +407,21 @@ impl UnstructuredBulk {
         crate::law::elastic::stable_time_step(alpha, self.h_min, cd, 0.0)
     }
 
+    /// The smallest transit time min_e h_e/c_d,e [s] over the elements, each with its own length
+    /// h_e ([`UnstructuredBulk::min_length`]'s rule) and its own material's P-wave speed: the
+    /// stable step without a penalty is α times it.
+    pub fn min_transit_time(&self) -> f64 {
+        self.min_transit
+    }
+
     /// Bytes of the kernel's arrays (positions, connectivity, tiles and slots, masses).
     pub fn memory_bytes(&self) -> usize {
         use std::mem::size_of_val;
         size_of_val(&self.pos[..])
             + size_of_val(&self.q4[..])
             + size_of_val(&self.t3[..])
+            + size_of_val(&self.q4_bound[..])
+            + size_of_val(&self.t3_bound[..])
             + size_of_val(&self.tiles[..])
             + size_of_val(&self.tile_q4[..])
             + size_of_val(&self.tile_t3[..])
@@ -416,6 +499,24 @@ impl UnstructuredBulk {
     }
 }
 
+/// The buffer offsets (x component, lane) of the elements `list` of one kind (ascending; `bound`
+/// its materials' ranges, `values` its buffer values per element: 8 for a Q4, 6 for a T3) from
+/// `base` on, each material's run starting a batch of its own, into `slot`; returns the offset
+/// after the last batch.
+fn padded_slots(list: &[u32], bound: &[u32], values: usize, base: usize, slot: &mut [usize]) -> usize {
+    let (mut run_base, mut run_first, mut run_material) = (base, 0, usize::MAX);
+    for (p, &i) in list.iter().enumerate() {
+        let m = material_in(bound, i);
+        if m != run_material {
+            run_base += (p - run_first).div_ceil(L) * L * values;
+            (run_first, run_material) = (p, m);
+        }
+        let r = p - run_first;
+        slot[i as usize] = run_base + (r / L) * values * L + r % L;
+    }
+    run_base + (list.len() - run_first).div_ceil(L) * L * values
+}
+
 /// Whether the element passes may use AVX-512F.
 fn avx512() -> bool {
     #[cfg(target_arch = "x86_64")]
@@ -451,9 +552,25 @@ type Batch<const N: usize> = [[[f64; 4]; L]; N];
 /// forwarding.
 #[inline(always)]
 fn element_forces(k: &UnstructuredBulk, q: &[u32], tr: &[u32], u: &[[f64; 2]], buf: &mut [f64; SCRATCH]) {
-    let (bq, bt) = buf.split_at_mut(buffer_len(q.len(), 0));
-    batches::<4, Q4Pass>(&k.q4, &k.pos, &k.d, u, q, bq);
-    batches::<3, T3Pass>(&k.t3, &k.pos, &k.d, u, tr, bt);
+    // each material's elements (a run of the ascending list) in batches of their own, with its D
+    // (with one material, one run: the whole list), Q4 first, then T3 (the layout of `slots`)
+    let mut at = 0;
+    let mut rest = q;
+    for (m, d) in k.d.iter().enumerate() {
+        let run;
+        (run, rest) = rest.split_at(rest.partition_point(|&i| i < k.q4_bound[m + 1]));
+        let len = buffer_len(run.len(), 0);
+        batches::<4, Q4Pass>(&k.q4, &k.pos, d, u, run, &mut buf[at..at + len]);
+        at += len;
+    }
+    let mut rest = tr;
+    for (m, d) in k.d.iter().enumerate() {
+        let run;
+        (run, rest) = rest.split_at(rest.partition_point(|&i| i < k.t3_bound[m + 1]));
+        let len = buffer_len(0, run.len());
+        batches::<3, T3Pass>(&k.t3, &k.pos, d, u, run, &mut buf[at..at + len]);
+        at += len;
+    }
 }
 
 /// The force computation of one batch of an element kind with N corners. A trait rather than a
@@ -662,19 +779,21 @@ fn gauss_point(
 /// element 2A/ℓ_max for a T3 and A/ℓ_max for a Q4 (ℓ_max its longest edge); ∞ for a mesh without
 /// elements.
 pub fn min_element_length(mesh: &UnstructuredMesh) -> f64 {
-    let x = &mesh.positions;
-    mesh.elements
-        .iter()
-        .map(|el| {
-            let c = |k: usize| x[el.nodes[k]];
-            let n = el.nodes.len();
-            let longest = (0..n).map(|k| (c((k + 1) % n) - c(k)).norm()).fold(0.0, f64::max);
-            match el.kind {
-                ElementKind::T3 => (c(1) - c(0)).perp(&(c(2) - c(0))) / longest,
-                ElementKind::Q4 => 0.5 * ((c(2) - c(0)).perp(&(c(3) - c(1)))) / longest,
-            }
-        })
+    (0..mesh.elements.len())
+        .map(|e| element_length(mesh, e))
         .fold(f64::INFINITY, f64::min)
+}
+
+/// The length h_e [m] of element `e` of the stable step: 2A/ℓ_max for a T3, A/ℓ_max for a Q4.
+pub fn element_length(mesh: &UnstructuredMesh, e: usize) -> f64 {
+    let (x, el) = (&mesh.positions, &mesh.elements[e]);
+    let c = |k: usize| x[el.nodes[k]];
+    let n = el.nodes.len();
+    let longest = (0..n).map(|k| (c((k + 1) % n) - c(k)).norm()).fold(0.0, f64::max);
+    match el.kind {
+        ElementKind::T3 => (c(1) - c(0)).perp(&(c(2) - c(0))) / longest,
+        ElementKind::Q4 => 0.5 * ((c(2) - c(0)).perp(&(c(3) - c(1)))) / longest,
+    }
 }
 
 #[cfg(test)]
@@ -721,8 +840,18 @@ mod tests {
     /// The old formulation, as reference: f_a = −Σ_e K_e[a-rows] u_e in mesh element order, with
     /// K_e from `cst_stiffness` and `bulk::stiffness`.
     fn reference_forces(mesh: &UnstructuredMesh, d: &[[f64; 3]; 3], u: &[Vector2<f64>]) -> Vec<Vector2<f64>> {
+        reference_forces_of(mesh, &|_| *d, u)
+    }
+
+    /// As [`reference_forces`], element e with the Voigt matrix `d_of(e)`.
+    fn reference_forces_of(
+        mesh: &UnstructuredMesh,
+        d_of: &dyn Fn(usize) -> [[f64; 3]; 3],
+        u: &[Vector2<f64>],
+    ) -> Vec<Vector2<f64>> {
         let mut f = vec![Vector2::zeros(); u.len()];
-        for el in &mesh.elements {
+        for (e, el) in mesh.elements.iter().enumerate() {
+            let d = &d_of(e);
             let c: Vec<Vector2<f64>> = el.nodes.iter().map(|&a| mesh.positions[a]).collect();
             let k: Vec<Vec<f64>> = match el.kind {
                 ElementKind::T3 => cst_stiffness(&[c[0], c[1], c[2]], d)
@@ -1082,5 +1211,144 @@ mod tests {
             Err(UnstructuredError::InvertedElement { element: 1, .. })
         ));
         assert!(UnstructuredBulk::new(&mesh, &d, 0.0).is_err());
+    }
+
+    /// Two materials, (E, ν, ρ) and (8E, 0.25, 2ρ), on the elements of a distorted mixed mesh in a
+    /// scattered pattern: forces against Σ K_e u_e with each element's own D (round-off, 1e-12
+    /// of the largest force, as the one-material test), masses against ρ_e A_e summed, the same
+    /// bits on 1 and 2 threads and on both vector paths, and the smallest transit time against
+    /// min_e h_e/c_d,e.
+    #[test]
+    fn two_materials_use_each_elements_own() {
+        let mesh = distorted_mixed(60, 40, true);
+        let (m0, m1) = (material(), PlaneStrain::new(560e6, 0.25, 2460.0));
+        let table = [m0, m1].map(|m| BulkMaterial {
+            d: m.d_matrix(),
+            density: m.density,
+        });
+        let index: Vec<u8> = (0..mesh.elements.len())
+            .map(|e| ((e * 7) % 3 == 0) as u8)
+            .collect();
+        let mut bulk = UnstructuredBulk::with_materials(&mesh, &table, &index).unwrap();
+        let u = wobble(bulk.num_nodes());
+        let f = forces(&bulk, &u);
+        let g = reference_forces_of(&mesh, &|e| table[index[e] as usize].d, &u);
+        let scale = g.iter().map(|v| v.norm()).fold(0.0, f64::max);
+        for (n, (a, b)) in f.iter().zip(&g).enumerate() {
+            assert!((a - b).norm() <= 1e-12 * scale, "node {n}: {a} vs {b}");
+        }
+        let one_d = reference_forces(&mesh, &table[0].d, &u);
+        assert!(f.iter().zip(&one_d).any(|(a, b)| (a - b).norm() > 1e-3 * scale));
+        // masses: ρ_e A_e over the elements
+        let area = |e: usize| {
+            let c: Vec<Vector2<f64>> = mesh.elements[e]
+                .nodes
+                .iter()
+                .map(|&a| mesh.positions[a])
+                .collect();
+            0.5 * (0..c.len())
+                .map(|k| c[k].perp(&c[(k + 1) % c.len()]))
+                .sum::<f64>()
+        };
+        let total: f64 = (0..mesh.elements.len())
+            .map(|e| table[index[e] as usize].density * area(e))
+            .sum();
+        let summed: f64 = bulk.masses().iter().sum();
+        assert!((summed - total).abs() <= 1e-12 * total, "{summed} vs {total}");
+        let transit = (0..mesh.elements.len())
+            .map(|e| element_length(&mesh, e) / table[index[e] as usize].cd())
+            .fold(f64::INFINITY, f64::min);
+        assert_eq!(bulk.min_transit_time(), transit);
+        assert!(transit < bulk.min_length() / m0.wave_speeds().cd);
+        let run = |threads: usize, bulk: &UnstructuredBulk| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| forces(bulk, &u))
+        };
+        assert_same_bits(&run(1, &bulk), &run(2, &bulk));
+        bulk.avx512 = false;
+        assert_same_bits(&forces(&bulk, &u), &f);
+    }
+
+    /// A table of one material repeated splits the elements into two runs of batches, which must
+    /// give the forces of the one-material kernel: to round-off (1e-12 of the largest force, as
+    /// the other kernel tests), since a node sums its elements in another order (by material
+    /// first).
+    #[test]
+    fn a_table_of_one_material_gives_the_single_material_forces() {
+        let mesh = distorted_mixed(30, 20, false);
+        let m = material();
+        let one = BulkMaterial {
+            d: m.d_matrix(),
+            density: m.density,
+        };
+        let single = UnstructuredBulk::new(&mesh, &one.d, one.density).unwrap();
+        let index: Vec<u8> = (0..mesh.elements.len()).map(|e| (e % 2) as u8).collect();
+        let table = UnstructuredBulk::with_materials(&mesh, &[one, one], &index).unwrap();
+        let u = wobble(single.num_nodes());
+        let (a, b) = (forces(&table, &u), forces(&single, &u));
+        let scale = b.iter().map(|v| v.norm()).fold(0.0, f64::max);
+        for (n, (a, b)) in a.iter().zip(&b).enumerate() {
+            assert!((a - b).norm() <= 1e-12 * scale, "node {n}: {a} vs {b}");
+        }
+        assert_eq!(table.masses(), single.masses());
+        assert!(matches!(
+            UnstructuredBulk::with_materials(&mesh, &[one], &index),
+            Err(UnstructuredError::BadMaterials)
+        ));
+    }
+
+    /// The static patch across two materials (`meshes/bimaterial.msh`, "soft" for x < 1 m,
+    /// "stiff" beyond): under a uniform σ_xx = p with u_y = 0 (rollers on top and bottom), the
+    /// exact field is u_x = p x/M₁ for x ≤ 1 m and p/M₁ + p (x − 1)/M₂ beyond (M = λ + 2G, each
+    /// part's own compliance). Bilinear elements hold it exactly, so every node off the two ends
+    /// is in equilibrium in x (and off the rollers in y) to round-off: 1e-10 of the end forces.
+    /// The end forces sum to p times the bar's height, on the right end as on the left.
+    #[test]
+    fn a_uniform_stress_crosses_two_materials_exactly() {
+        let mesh = committed("bimaterial.msh");
+        let (soft, stiff) = (material(), PlaneStrain::new(560e6, 0.35, 2460.0));
+        let table = [soft, stiff].map(|m| BulkMaterial {
+            d: m.d_matrix(),
+            density: m.density,
+        });
+        let mut index = vec![0u8; mesh.elements.len()];
+        for &e in &mesh.groups["stiff"].elements {
+            index[e] = 1;
+        }
+        let bulk = UnstructuredBulk::with_materials(&mesh, &table, &index).unwrap();
+        let p = 1e5;
+        let (m1, m2) = (table[0].d[0][0], table[1].d[0][0]);
+        let u: Vec<Vector2<f64>> = mesh
+            .positions
+            .iter()
+            .map(|x| {
+                let ux = if x.x <= 1.0 {
+                    p * x.x / m1
+                } else {
+                    p / m1 + p * (x.x - 1.0) / m2
+                };
+                Vector2::new(ux, 0.0)
+            })
+            .collect();
+        let f = forces(&bulk, &u);
+        let tol = 1e-10 * p * 0.06;
+        let (mut left, mut right) = (0.0, 0.0);
+        for (n, (x, fa)) in mesh.positions.iter().zip(&f).enumerate() {
+            let end = x.x.abs() < 1e-9 || (x.x - 2.5).abs() < 1e-9;
+            let roller = x.y.abs() < 1e-9 || (x.y - 0.06).abs() < 1e-9;
+            if x.x.abs() < 1e-9 {
+                left += fa.x;
+            } else if (x.x - 2.5).abs() < 1e-9 {
+                right += fa.x;
+            }
+            assert!(end || fa.x.abs() <= tol, "node {n} at {x}: f_x = {}", fa.x);
+            assert!(roller || fa.y.abs() <= tol, "node {n} at {x}: f_y = {}", fa.y);
+        }
+        // f = −f_int: the left end's nodes need +p h to be held, the right end's −p h
+        assert!((left - p * 0.06).abs() <= tol, "{left}");
+        assert!((right + p * 0.06).abs() <= tol, "{right}");
     }
 }

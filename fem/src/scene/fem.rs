@@ -228,6 +228,13 @@ pub(crate) fn validate_fem(
 fn mesh_boundary(f: &RawFem, crack: Option<&Crack>, m: &MeshSpec) -> Result<(), SceneError> {
     let p = &m.prepared;
     match &f.boundary {
+        None if !m.materials.is_empty() => {
+            return Err(inconsistent(
+                "fem.boundary",
+                "missing: the Westergaard boundary field is the field of one material everywhere, and \
+                 fem.mesh.materials gives several; give [fem.boundary]",
+            ));
+        }
         None => {
             let a = crack.map_or(0.0, |c| c.half_length);
             // 1e-9 a: a straight crack drawn on y = 0 is exactly there; anything else is not the

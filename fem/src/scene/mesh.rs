@@ -7,6 +7,7 @@ use super::problem::Crack;
 use super::raw::{RawFem, RawMesh};
 use crate::error::SceneError;
 use crate::law::cohesive::LinearCohesive;
+use crate::law::elastic::PlaneStrain;
 use crate::mesh::prepared::{MeshRoles, PreparedMesh, prepare};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -23,11 +24,23 @@ pub struct MeshSpec {
     /// Per interface curve (in the order of `roles.interface`): its own cohesive law, or `None`
     /// for the `[interface]` law.
     pub laws: Vec<Option<LinearCohesive>>,
+    /// The materials of `[fem.mesh.materials]`, in the order of their surfaces in `roles.bulk`;
+    /// empty without it (every element of `[material]`).
+    pub materials: Vec<PlaneStrain>,
+    /// Per element of the prepared mesh: 0 for `[material]`, k for `materials[k − 1]` (empty
+    /// without `[fem.mesh.materials]`).
+    pub element_material: Vec<u8>,
+    /// Per material index (0: `[material]`, k: `materials[k − 1]`): the smallest length h_e of
+    /// its elements ([`crate::model::unstructured::element_length`]) [m] (∞: no element).
+    pub min_length: Vec<f64>,
 }
 
 impl PartialEq for MeshSpec {
     fn eq(&self, other: &Self) -> bool {
-        self.file == other.file && self.roles == other.roles && self.laws == other.laws
+        self.file == other.file
+            && self.roles == other.roles
+            && self.laws == other.laws
+            && self.materials == other.materials
     }
 }
 
@@ -84,6 +97,7 @@ pub(crate) fn mesh(
     }
     let (file, roles) = roles(m, base_dir)?;
     let laws = curve_laws(f, m, &roles)?;
+    let surface_materials = surface_materials(m, &roles)?;
     if !roles.interface.is_empty() && !cohesive {
         return Err(inconsistent(
             "fem.mesh.interface",
@@ -119,6 +133,13 @@ pub(crate) fn mesh(
             ));
         }
     }
+    let (materials, element_material) = element_materials(&prepared, &roles, &surface_materials)?;
+    let mut min_length = vec![f64::INFINITY; materials.len() + 1];
+    for e in 0..prepared.mesh.elements.len() {
+        let k = element_material.get(e).copied().unwrap_or(0) as usize;
+        let h = crate::model::unstructured::element_length(&prepared.mesh, e);
+        min_length[k] = min_length[k].min(h);
+    }
     let mut effective = f.clone();
     let b = prepared.bbox;
     effective.x_range = b[0];
@@ -132,6 +153,9 @@ pub(crate) fn mesh(
             roles,
             prepared: Arc::new(prepared),
             laws,
+            materials,
+            element_material,
+            min_length,
         },
         effective,
     )))
@@ -205,4 +229,106 @@ fn curve_laws(f: &RawFem, m: &RawMesh, roles: &MeshRoles) -> Result<Vec<Option<L
         });
     }
     Ok(out)
+}
+
+/// `[fem.mesh.materials]`: per bulk surface (in the order of `roles.bulk`), its own material, or
+/// `None` for `[material]`. Each key must name a surface of `fem.mesh.bulk`; the values are
+/// checked as `[material]`'s.
+fn surface_materials(m: &RawMesh, roles: &MeshRoles) -> Result<Vec<Option<PlaneStrain>>, SceneError> {
+    let mut out = vec![None; roles.bulk.len()];
+    let Some(materials) = &m.materials else {
+        return Ok(out);
+    };
+    // the model indexes its materials with a byte: [material] and up to 255 others
+    if materials.len() > 255 {
+        return Err(inconsistent(
+            "fem.mesh.materials",
+            format!("{} materials given; at most 255", materials.len()),
+        ));
+    }
+    for (name, raw) in materials {
+        let key = |field: &str| format!("fem.mesh.materials.{name}.{field}");
+        let Some(k) = roles.bulk.iter().position(|c| c == name) else {
+            return Err(inconsistent(
+                format!("fem.mesh.materials.{name}"),
+                format!(
+                    "names no surface of fem.mesh.bulk ({}); a material is given to a listed bulk surface",
+                    if roles.bulk.is_empty() {
+                        "none listed".to_string()
+                    } else {
+                        roles.bulk.join(", ")
+                    }
+                ),
+            ));
+        };
+        let (e, nu, rho) = (raw.youngs_modulus, raw.poisson_ratio, raw.density);
+        check(key("youngs_modulus"), e, e > 0.0, "> 0 Pa")?;
+        check(key("poisson_ratio"), nu, (0.0..0.5).contains(&nu), "[0, 0.5)")?;
+        check(key("density"), rho, rho > 0.0, "> 0 kg/m^3")?;
+        out[k] = Some(PlaneStrain::new(e, nu, rho));
+    }
+    Ok(out)
+}
+
+/// The distinct materials given and each element's index (0: `[material]`, k: the k-th given),
+/// both empty without `[fem.mesh.materials]`. An element in two listed surfaces must get the same
+/// material from both (a surface without an entry gives `[material]`).
+fn element_materials(
+    p: &PreparedMesh,
+    roles: &MeshRoles,
+    given: &[Option<PlaneStrain>],
+) -> Result<(Vec<PlaneStrain>, Vec<u8>), SceneError> {
+    if given.iter().all(Option::is_none) {
+        return Ok((Vec::new(), Vec::new()));
+    }
+    let materials: Vec<PlaneStrain> = given.iter().flatten().copied().collect();
+    let mut index = Vec::with_capacity(given.len());
+    let mut next = 0u8;
+    for g in given {
+        index.push(g.map_or(0, |_| {
+            next += 1;
+            next
+        }));
+    }
+    let same = |a: u8, b: u8| {
+        let of = |k: u8| (k > 0).then(|| materials[k as usize - 1]);
+        a == b || (of(a).is_some() && of(a) == of(b))
+    };
+    let n = p.mesh.elements.len();
+    // (material index, surface) of each element, from the first surface that holds it
+    let mut from: Vec<Option<(u8, usize)>> = vec![None; n];
+    for (s, name) in roles.bulk.iter().enumerate() {
+        for &e in &p.mesh.groups[name].elements {
+            match from[e] {
+                Some((k, first)) if !same(k, index[s]) => {
+                    let says = |s: usize| {
+                        if given[s].is_some() {
+                            format!("fem.mesh.materials.{}", roles.bulk[s])
+                        } else {
+                            "[material]".to_string()
+                        }
+                    };
+                    return Err(inconsistent(
+                        format!(
+                            "fem.mesh.materials.{}",
+                            roles.bulk[if given[s].is_some() { s } else { first }]
+                        ),
+                        format!(
+                            "element {} lies in the surfaces \"{}\" ({}) and \"{}\" ({}), which give it \
+                             different materials",
+                            p.mesh.elements[e].tag,
+                            roles.bulk[first],
+                            says(first),
+                            name,
+                            says(s)
+                        ),
+                    ));
+                }
+                Some(_) => {}
+                None => from[e] = Some((index[s], s)),
+            }
+        }
+    }
+    let element_material = from.iter().map(|f| f.map_or(0, |(k, _)| k)).collect();
+    Ok((materials, element_material))
 }

@@ -149,6 +149,8 @@ pub(crate) struct RawMesh {
     pub interface: Option<Vec<String>>,
     /// Per interface curve, by name: its own cohesive law.
     pub laws: Option<std::collections::BTreeMap<String, RawInterface>>,
+    /// Per bulk surface, by name: its own material.
+    pub materials: Option<std::collections::BTreeMap<String, RawMaterial>>,
 }
 
 /// `[fem.paraview]`: ParaView field snapshots.

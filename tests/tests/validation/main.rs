@@ -28,6 +28,8 @@ mod spectral_supershear;
 #[cfg(feature = "fem")]
 mod fem_arc_interface;
 #[cfg(feature = "fem")]
+mod fem_bimaterial;
+#[cfg(feature = "fem")]
 mod fem_center_crack;
 #[cfg(feature = "fem")]
 mod fem_chains;
