@@ -386,7 +386,8 @@ fn damping(model: &Model, state: &mut State) {
             let twin = if node == m { p } else { m };
             for d in 0..2 {
                 // a tied twin of a held node moves with it in that component
-                if !model.fixed_dof[node][d] && !(tied && model.fixed_dof[twin][d]) {
+                let held = model.fixed_dof[node][d] || tied && model.fixed_dof[twin][d];
+                if !held {
                     let v = state.v[node][d];
                     removed += 0.5 * model.mass[node] * (1.0 - c * c) * v * v;
                     state.v[node][d] *= c;
