@@ -182,6 +182,13 @@ fn a_grid_scene_without_its_keys_names_them() {
     assert!(e.contains("fem.element_size") && e.contains("missing"), "{e}");
 }
 
+/// The paper's material, plane strain, as a scene's `[material]` table.
+const PAPER_MATERIAL: &str = "[material]
+youngs_modulus = 70e6           # Pa
+poisson_ratio = 0.35            # -
+density = 1230.0                # kg/m^3
+";
+
 /// A bar in uniform tension across an interface made of two curves, each with its own law
 /// (`[fem.mesh.laws]`): `weak` (σ_c = 0.1 MPa) and `strong` (σ_c = 1 MPa), the `[interface]` law
 /// (0.5 MPa) left to neither. The top is pulled by a traction that rises slowly to 0.12 MPa.
@@ -189,11 +196,7 @@ fn two_laws_scene(laws: &str) -> String {
     let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../meshes/two-laws.msh");
     format!(
         r#"name = "two-laws"
-[material]
-youngs_modulus = 70e6           # Pa
-poisson_ratio = 0.35            # -
-density = 1230.0                # kg/m^3
-[interface]
+{PAPER_MATERIAL}[interface]
 sigma_c = 0.5e6                 # Pa
 delta_c = 1e-3                  # m
 beta = 1.0                      # -
@@ -318,11 +321,7 @@ fn held_end_scene() -> String {
     let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../meshes/held-end.msh");
     format!(
         r#"name = "held-end"
-[material]
-youngs_modulus = 70e6           # Pa
-poisson_ratio = 0.35            # -
-density = 1230.0                # kg/m^3
-[interface]
+{PAPER_MATERIAL}[interface]
 sigma_c = 0.2e6                 # Pa
 delta_c = 1e-2                  # m
 beta = 1.0                      # -
