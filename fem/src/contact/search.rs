@@ -6,6 +6,14 @@ use nalgebra::Vector2;
 
 use super::geometry::{Projection, SegmentFrame, project_on_frame};
 
+/// A slave and a master face each other when their normals are within 60° of opposite,
+/// n_i·n_e < −cos 60° (the paper's rule is n_i·n_e < 0, within 90°). The faces of one interface
+/// start opposite (n_i·n_e = −1) and turn by the bulk's rotations only; the 90° margin of the
+/// paper's rule lets a node beside a right-angled kink of a Gmsh interface pair with the other
+/// leg's face, onto whose end it projects (ξ = −1) at a penetration of its whole distance to the
+/// corner: the contact then pushes it out with a spurious force (docs/fem-model.md §5.1).
+const FACING_COS: f64 = 0.5;
+
 /// Upper bound of grid cells per segment capacity: the cell size is enlarged until the grid fits.
 const CELLS_PER_SEGMENT: usize = 4;
 
@@ -209,7 +217,7 @@ pub(crate) struct Limits {
 
 /// Narrow phase for one slave, docs/fem-model.md §5.1: among the grid candidates, drop segments attached
 /// to the node or to its tied twin; project; keep penetrating (g < 0) pairs with |g| ≤ d_max,
-/// facing normals (n_i·n_e < 0) and ξ within tolerance; return the one with the smallest |g|
+/// facing normals (n_i·n_e < −cos 60°, [`FACING_COS`]) and ξ within tolerance; return the one with the smallest |g|
 /// (docs/fem-model.md §10.8; on ties the lowest segment index, for reproducibility).
 ///
 /// `frames[e]` is segment e's frame at the current positions (`None`: degenerate, never a master).
@@ -251,7 +259,7 @@ pub(crate) fn closest_master_or_depth(
         }
         // Cheap rejections first: separated or not facing; then too deep (counted).
         let gap = (x_i - x[j1 as usize]).dot(&frame.normal);
-        if gap >= 0.0 || slave.normal.dot(&frame.normal) >= 0.0 {
+        if gap >= 0.0 || slave.normal.dot(&frame.normal) >= -FACING_COS {
             continue;
         }
         let p = project_on_frame(x_i, x[j1 as usize], frame);
