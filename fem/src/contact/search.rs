@@ -187,13 +187,26 @@ impl BucketGrid {
     }
 }
 
+/// A slave faces a segment when their normals make more than 120° (n_i·n_e < cos 120° = −½).
+/// Normals at right angles (a face meeting another at a junction's 90° corner, whose nodes project
+/// onto the other face's end) do not face each other: with the plain n_i·n_e < 0, round-off
+/// in the deformed normals let such nodes be taken as penetrating by up to a facet length.
+const FACING_COS: f64 = -0.5;
+
+/// The most nodes a slave may be tied to: a junction of up to 8 sectors (docs/meshes.md).
+pub(crate) const MAX_TIED: usize = 7;
+
+/// No tie: every slot unused.
+pub(crate) const UNTIED: [u32; MAX_TIED] = [u32::MAX; MAX_TIED];
+
 /// What the narrow phase needs besides the grid, for one slave node.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Slave {
     /// Node id i.
     pub node: u32,
-    /// The node i is tied to (docs/fem-model.md §3.1), or `u32::MAX`.
-    pub tied_twin: u32,
+    /// The nodes i is tied to (docs/fem-model.md §3.1; several at a junction), `u32::MAX` in
+    /// the unused slots.
+    pub tied: [u32; MAX_TIED],
     /// Slave normal n_i (normalised sum of its segments' outward normals) [-].
     pub normal: Vector2<f64>,
 }
@@ -209,7 +222,7 @@ pub(crate) struct Limits {
 
 /// Narrow phase for one slave, docs/fem-model.md §5.1: among the grid candidates, drop segments attached
 /// to the node or to its tied twin; project; keep penetrating (g < 0) pairs with |g| ≤ d_max,
-/// facing normals (n_i·n_e < 0) and ξ within tolerance; return the one with the smallest |g|
+/// facing normals (n_i·n_e < −½, [`FACING_COS`]) and ξ within tolerance; return the one with the smallest |g|
 /// (docs/fem-model.md §10.8; on ties the lowest segment index, for reproducibility).
 ///
 /// `frames[e]` is segment e's frame at the current positions (`None`: degenerate, never a master).
@@ -242,7 +255,7 @@ pub(crate) fn closest_master_or_depth(
     for &e in grid.candidates(x_i) {
         let [j1, j2] = segments[e as usize];
         let attached = j1 == slave.node || j2 == slave.node;
-        let twin = j1 == slave.tied_twin || j2 == slave.tied_twin;
+        let twin = slave.tied.contains(&j1) || slave.tied.contains(&j2);
         let Some(frame) = &frames[e as usize] else {
             continue;
         };
@@ -251,7 +264,7 @@ pub(crate) fn closest_master_or_depth(
         }
         // Cheap rejections first: separated or not facing; then too deep (counted).
         let gap = (x_i - x[j1 as usize]).dot(&frame.normal);
-        if gap >= 0.0 || slave.normal.dot(&frame.normal) >= 0.0 {
+        if gap >= 0.0 || slave.normal.dot(&frame.normal) >= FACING_COS {
             continue;
         }
         let p = project_on_frame(x_i, x[j1 as usize], frame);
