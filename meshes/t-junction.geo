@@ -2,8 +2,8 @@
 // - "interface": y = 0.5 m across the whole width (two lines, split at x = 1 m);
 // - "branch": x = 1 m from the junction (1, 0.5) m up to the top;
 // - "bulk": the three surfaces; "bottom", "right", "top" (both halves), "left": the outer boundary.
-// The model refuses the junction (docs/meshes.md, "Several chains"); fem/tests/mesh_scene.rs
-// checks the error.
+// The junction's node is split into one copy per sector (docs/meshes.md, "Several chains"); the
+// scenes tiny-fem-t-junction*.toml run on it (tests/tests/validation/fem_junction.rs).
 h = 0.1;
 Point(1) = {0, 0, 0, h};
 Point(2) = {2, 0, 0, h};

@@ -99,6 +99,17 @@ pub enum BuildError {
         /// The Jacobian determinant [m^2].
         det_j: f64,
     },
+    /// A boundary condition holds a junction of interfaces.
+    #[error(
+        "a boundary condition holds the junction of interfaces at ({x}, {y}) m; a junction must not be \
+         held (its copies are tied as a group that a support does not carry)"
+    )]
+    HeldJunction {
+        /// x of the junction [m].
+        x: f64,
+        /// y of the junction [m].
+        y: f64,
+    },
     /// The unstructured kernel cannot be built on the scene's Gmsh mesh.
     #[error("the mesh of fem.mesh.file: {0}")]
     Mesh(#[from] crate::model::unstructured::UnstructuredError),

@@ -427,17 +427,33 @@ fn a_degenerate_element_is_named() {
 }
 
 #[test]
-fn a_branching_interface_names_the_node() {
+fn a_junction_ends_the_chains_and_gets_one_copy_per_sector() {
+    // A T on the 2 × 2 grid: 4-5-6 across the middle, 5-8 up from its centre node 5.
     let mesh = parse(&grid_msh(2, 0.0, &[(10, 4, 5), (11, 5, 6), (12, 5, 8)], "")).unwrap();
-    let err = interface_chains(&mesh, "interface").unwrap_err();
+    let chains = interface_chains(&mesh, "interface").unwrap();
+    let tags = |c: &Chain| c.nodes.iter().map(|&n| mesh.node_tags[n]).collect::<Vec<_>>();
     assert_eq!(
-        err,
-        MeshError::Branching {
-            group: "interface".into(),
-            node: 5,
-            count: 3
-        }
+        chains.iter().map(tags).collect::<Vec<_>>(),
+        vec![vec![4, 5], vec![5, 6], vec![5, 8]]
     );
+    let split = split_interface(&mesh, &chains).unwrap();
+    // the three outer ends are twinned; node 5 gets a copy for each of its three sectors (the
+    // two lower quadrangles together, the upper left, the upper right)
+    assert!(split.tips.is_empty());
+    assert_eq!(split.twins.len(), 3);
+    assert_eq!(split.junctions, vec![vec![4, 12, 13]]);
+    let copy_in = |e: usize| {
+        let nodes = &split.mesh.elements[e].nodes;
+        *nodes.iter().find(|n| split.junctions[0].contains(n)).unwrap()
+    };
+    assert_eq!(copy_in(0), copy_in(1));
+    let sectors = [copy_in(0), copy_in(2), copy_in(3)];
+    assert!(sectors[0] != sectors[1] && sectors[1] != sectors[2] && sectors[0] != sectors[2]);
+    // each chain's end at the junction names the copies on its − and + sides
+    let ends = [split.columns[0][1], split.columns[1][0], split.columns[2][0]];
+    assert_eq!(ends[0], [sectors[0], sectors[1]]); // left: below | upper left
+    assert_eq!(ends[1], [sectors[0], sectors[2]]); // right: below | upper right
+    assert_eq!(ends[2], [sectors[2], sectors[1]]); // up: upper right | upper left
 }
 
 #[test]

@@ -285,29 +285,17 @@ fn bad_curve_laws_are_refused_naming_the_key() {
     );
 }
 
-/// Interfaces that meet at a node (a T junction, `meshes/t-junction.msh`) are refused, naming the
-/// key, the curves and the node; each curve alone is a chain the model takes.
+/// Interfaces that meet at a node (a T junction, `meshes/t-junction.msh`) are taken together:
+/// the chains end at the junction; each curve alone is a chain too.
 #[test]
-fn a_junction_of_interfaces_is_refused_naming_the_curves() {
+fn a_junction_of_interfaces_is_taken_together_or_curve_by_curve() {
     let text = two_laws_scene("").replace("two-laws.msh", "t-junction.msh");
-    let both = text.replace(
-        "interface = [\"weak\", \"strong\"]",
-        "interface = [\"interface\", \"branch\"]",
-    );
-    let e = refused(&both);
-    assert!(
-        e.contains("fem.mesh.interface")
-            && e.contains("\"interface + branch\"")
-            && e.contains("joins 3 of its lines")
-            && e.contains("junctions of interfaces are not supported yet"),
-        "{e}"
-    );
-    for one in ["interface", "branch"] {
-        let alone = text.replace(
+    for names in ["\"interface\", \"branch\"", "\"interface\"", "\"branch\""] {
+        let one = text.replace(
             "interface = [\"weak\", \"strong\"]",
-            &format!("interface = [\"{one}\"]"),
+            &format!("interface = [{names}]"),
         );
-        Scene::from_toml_str(&alone).unwrap_or_else(|e| panic!("{one}: {e}"));
+        Scene::from_toml_str(&one).unwrap_or_else(|e| panic!("{names}: {e}"));
     }
 }
 

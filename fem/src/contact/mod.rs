@@ -19,7 +19,7 @@ use crate::law::friction::Friction;
 pub(crate) use forces::AVERAGING_WEIGHT;
 use forces::{ContactResponse, SlaveHistory, node_geometry, respond, scatter};
 use geometry::{Projection, SegmentFrame};
-use search::{BucketGrid, Limits, Slave, closest_master_or_depth};
+use search::{BucketGrid, Limits, MAX_TIED, Slave, UNTIED, closest_master_or_depth};
 
 /// Parameters of the contact pass (docs/fem-model.md §5).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -260,7 +260,7 @@ pub(crate) fn resolve(
             let i = node as usize;
             let slave = Slave {
                 node,
-                tied_twin: tied_twin.get(i).copied().unwrap_or(u32::MAX),
+                tied: tied_of(tied_twin, i),
                 normal: normal[i],
             };
             let (found, lost) = closest_master_or_depth(&slave, grid, segments, frames, x, &limits);
@@ -314,4 +314,19 @@ enum Detected {
         proj: Projection,
         r: ContactResponse,
     },
+}
+
+/// The nodes node i is tied to: its twin, or the rest of its tie ring at a junction (at most
+/// [`MAX_TIED`]; the split refuses wider junctions).
+fn tied_of(tied_twin: &[u32], i: usize) -> [u32; MAX_TIED] {
+    let mut out = UNTIED;
+    let mut t = tied_twin.get(i).copied().unwrap_or(u32::MAX);
+    for slot in &mut out {
+        if t == u32::MAX || t == i as u32 {
+            break;
+        }
+        *slot = t;
+        t = tied_twin[t as usize];
+    }
+    out
 }

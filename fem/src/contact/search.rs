@@ -11,7 +11,8 @@ use super::geometry::{Projection, SegmentFrame, project_on_frame};
 /// start opposite (n_i·n_e = −1) and turn by the bulk's rotations only; the 90° margin of the
 /// paper's rule lets a node beside a right-angled kink of a Gmsh interface pair with the other
 /// leg's face, onto whose end it projects (ξ = −1) at a penetration of its whole distance to the
-/// corner: the contact then pushes it out with a spurious force (docs/fem-model.md §5.1).
+/// corner (at a junction's 90° corners too): the contact then pushes it out with a spurious force
+/// (docs/fem-model.md §5.1).
 const FACING_COS: f64 = 0.5;
 
 /// Upper bound of grid cells per segment capacity: the cell size is enlarged until the grid fits.
@@ -195,13 +196,21 @@ impl BucketGrid {
     }
 }
 
+
+/// The most nodes a slave may be tied to: a junction of up to 8 sectors (docs/meshes.md).
+pub(crate) const MAX_TIED: usize = 7;
+
+/// No tie: every slot unused.
+pub(crate) const UNTIED: [u32; MAX_TIED] = [u32::MAX; MAX_TIED];
+
 /// What the narrow phase needs besides the grid, for one slave node.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Slave {
     /// Node id i.
     pub node: u32,
-    /// The node i is tied to (docs/fem-model.md §3.1), or `u32::MAX`.
-    pub tied_twin: u32,
+    /// The nodes i is tied to (docs/fem-model.md §3.1; several at a junction), `u32::MAX` in
+    /// the unused slots.
+    pub tied: [u32; MAX_TIED],
     /// Slave normal n_i (normalised sum of its segments' outward normals) [-].
     pub normal: Vector2<f64>,
 }
@@ -250,7 +259,7 @@ pub(crate) fn closest_master_or_depth(
     for &e in grid.candidates(x_i) {
         let [j1, j2] = segments[e as usize];
         let attached = j1 == slave.node || j2 == slave.node;
-        let twin = j1 == slave.tied_twin || j2 == slave.tied_twin;
+        let twin = slave.tied.contains(&j1) || slave.tied.contains(&j2);
         let Some(frame) = &frames[e as usize] else {
             continue;
         };

@@ -212,7 +212,7 @@ fn smallest_penetration_wins_over_the_deepest_candidate() {
     let frames = frames_of(&segments, &x);
     let slave = Slave {
         node: 0,
-        tied_twin: NO_TWIN,
+        tied: super::search::UNTIED,
         normal: Vector2::new(0.0, -1.0),
     };
     let limits = Limits {
@@ -258,7 +258,7 @@ fn grid_search_matches_brute_force() {
         let normal = if c.upper.contains(&node) { -1.0 } else { 1.0 };
         let slave = Slave {
             node,
-            tied_twin: NO_TWIN,
+            tied: super::search::UNTIED,
             normal: Vector2::new(0.0, normal),
         };
         let a = closest_master(&slave, &grid, segments, &frames, &c.x, &limits);

@@ -4,7 +4,7 @@
 use nalgebra::Vector2;
 
 use super::search::{BucketGrid, Limits, Slave, closest_master};
-use super::tests::{EPS, H, NO_TWIN, faces, frames_of, new_pass, params, run};
+use super::tests::{EPS, H, faces, frames_of, new_pass, params, run};
 use super::*;
 
 /// Lower face 3 segments; upper face 1 segment starting just left of the lower node at x = h,
@@ -83,7 +83,7 @@ fn plastic_slip_of_one_slave_equals_its_motion_across_junctions() {
         grid.rebuild(&segments, &x, H, 1e-3);
         let s = Slave {
             node: slave,
-            tied_twin: NO_TWIN,
+            tied: super::search::UNTIED,
             normal: Vector2::new(0.0, -1.0),
         };
         let (e, proj) = closest_master(&s, &grid, &segments, &frames_of(&segments, &x), &x, &limits).unwrap();

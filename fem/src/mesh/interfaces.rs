@@ -51,7 +51,15 @@ pub(crate) struct InterfaceRow {
     pub col_facets: Vec<[u32; 2]>,
     /// Chain of each column (0, 1, … in the order the chains are stored) [-].
     pub chain: Vec<u16>,
+    /// The columns of each junction (a node where three or more chains end, split into one copy
+    /// per sector): each column's − and + nodes are copies of that node [-].
+    pub junctions: Vec<Vec<u32>>,
+    /// Per column: its junction ([`NO_JUNCTION`]: none) [-].
+    pub col_junction: Vec<u32>,
 }
+
+/// "No junction" in [`InterfaceRow::col_junction`].
+pub(crate) const NO_JUNCTION: u32 = u32::MAX;
 
 /// "No facet" in [`InterfaceRow::col_facets`].
 pub(crate) const NO_FACET: u32 = u32::MAX;
@@ -80,6 +88,8 @@ impl InterfaceRow {
             ends: (0..nx as u32).map(|c| [c, c + 1]).collect(),
             col_facets: Vec::new(),
             chain: vec![0; nx + 1],
+            junctions: Vec::new(),
+            col_junction: vec![NO_JUNCTION; nx + 1],
         };
         out.col_facets = column_facets(nx + 1, &out.ends);
         out.coord = out.minus.iter().map(|&n| grid.x0[n as usize].x).collect();

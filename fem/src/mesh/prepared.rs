@@ -3,9 +3,10 @@
 //! and split into twins, and the interface row built on it with each facet's own geometry
 //! (docs/meshes.md, "Scenes on a Gmsh mesh").
 //!
-//! The pre-crack and cohesive curves form one or several disjoint simple chains of mesh edges
-//! (no node on two chains, none where three lines meet). An open chain ends on the outer boundary
-//! or at a crack tip inside the body and runs from its end with the smaller x (then the smaller
+//! The pre-crack and cohesive curves form one or several simple chains of mesh edges, which share
+//! no node but at a junction (a node where three or more lines meet, where they end; its columns
+//! are listed in the row's `junctions`). An open chain ends on the outer boundary, at a crack tip
+//! inside the body or at a junction and runs from its end with the smaller x (then the smaller
 //! y), so that the + side is on its left (above a horizontal interface, as on the built-in
 //! grids); a closed chain runs counter-clockwise from its node with the smaller x (then y), so
 //! that its + side, on its left, is the region it encloses. Each chain's columns are measured by
@@ -13,7 +14,7 @@
 //! interface row in the order of their smallest line tag.
 
 use crate::gmsh::{Chain, MeshError, UnstructuredMesh, interface_chains_of, split_interface};
-use crate::mesh::interfaces::{FacetKind, InterfaceRow, column_facets};
+use crate::mesh::interfaces::{FacetKind, InterfaceRow, NO_JUNCTION, column_facets};
 use nalgebra::Vector2;
 use std::collections::{HashMap, HashSet};
 
@@ -173,13 +174,26 @@ pub fn prepare(mesh: UnstructuredMesh, roles: &MeshRoles) -> Result<PreparedMesh
     let mut outer = outer_before;
     let mut plus = vec![false; n];
     outer.resize(n, false);
-    let mut twin_of: Vec<u32> = (0..n as u32).collect();
     for t in &split.twins {
         outer[t.plus] = outer[t.minus];
         plus[t.plus] = true;
-        twin_of[t.minus] = t.plus as u32;
     }
-    let row = row_of(&split.mesh, &chains, &twin_of, &pre_lines);
+    for copies in &split.junctions {
+        for &c in &copies[1..] {
+            outer[c] = outer[copies[0]];
+            plus[c] = true;
+        }
+    }
+    let mut row = row_of(&split.mesh, &chains, &split.columns, &pre_lines);
+    for copies in &split.junctions {
+        let cols: Vec<u32> = (0..row.minus.len() as u32)
+            .filter(|&i| copies.contains(&(row.minus[i as usize] as usize)))
+            .collect();
+        for &i in &cols {
+            row.col_junction[i as usize] = row.junctions.len() as u32;
+        }
+        row.junctions.push(cols);
+    }
     Ok(PreparedMesh {
         mesh: split.mesh,
         outer,
@@ -265,7 +279,7 @@ fn oriented(x: &[Vector2<f64>], mut chain: Chain) -> Chain {
 fn row_of(
     mesh: &UnstructuredMesh,
     chains: &[Chain],
-    twin_of: &[u32],
+    columns: &[Vec<[usize; 2]>],
     pre_lines: &HashSet<usize>,
 ) -> InterfaceRow {
     let x = &mesh.positions;
@@ -282,12 +296,14 @@ fn row_of(
         ends: Vec::new(),
         col_facets: Vec::new(),
         chain: Vec::new(),
+        junctions: Vec::new(),
+        col_junction: Vec::new(),
     };
     for (k, chain) in chains.iter().enumerate() {
         let first = row.minus.len() as u32;
         let m = chain.nodes.len() as u32;
-        row.minus.extend(chain.nodes.iter().map(|&n| n as u32));
-        row.plus.extend(chain.nodes.iter().map(|&n| twin_of[n]));
+        row.minus.extend(columns[k].iter().map(|c| c[0] as u32));
+        row.plus.extend(columns[k].iter().map(|c| c[1] as u32));
         row.chain.extend(std::iter::repeat_n(k as u16, chain.nodes.len()));
         let mut s = x[chain.nodes[0]].x;
         for (i, seg) in chain.segments.iter().enumerate() {
@@ -313,6 +329,7 @@ fn row_of(
         }
     }
     row.col_facets = column_facets(row.minus.len(), &row.ends);
+    row.col_junction = vec![NO_JUNCTION; row.minus.len()];
     row
 }
 
@@ -369,5 +386,49 @@ mod tests {
         assert!((row.facet_span(nf - 1)[1] - (0.6 + length)).abs() < 1e-12);
         // every column is a twin pair: the loop has no tip
         assert!((0..m).all(|i| row.minus[i] != row.plus[i]));
+    }
+
+    #[test]
+    fn a_t_junction_ends_three_chains_whose_copies_untie_as_its_facets_open() {
+        use crate::model::build::{in_ring, tie_junction};
+        let p = prepared("t-junction.msh", &["interface", "branch"]);
+        let row = p.row.as_ref().unwrap();
+        assert_eq!((row.num_chains(), row.junctions.len()), (3, 1));
+        let cols: Vec<usize> = row.junctions[0].iter().map(|&i| i as usize).collect();
+        assert_eq!(cols.len(), 3);
+        let x = &p.mesh.positions;
+        for &i in &cols {
+            assert_eq!(row.col_junction[i], 0);
+            assert!((x[row.minus[i] as usize] - Vector2::new(1.0, 0.5)).norm() < 1e-12);
+            assert_ne!(row.minus[i], row.plus[i]);
+        }
+        // one copy per sector: below, upper left, upper right
+        let mut copies: Vec<u32> = cols.iter().flat_map(|&i| [row.minus[i], row.plus[i]]).collect();
+        copies.sort_unstable();
+        copies.dedup();
+        assert_eq!(copies.len(), 3);
+        let facet_at = |i: usize| row.column_facets(i).next().unwrap();
+        let mut tied = vec![u32::MAX; x.len()];
+        let mut inserted = vec![false; row.num_facets()];
+        let group = |tied: &[u32], a: u32| {
+            copies
+                .iter()
+                .filter(|&&b| b == a || in_ring(tied, a as usize, b))
+                .count()
+        };
+        tie_junction(row, &inserted, 0, &mut tied);
+        assert!(copies.iter().all(|&c| group(&tied, c) == 3));
+        // open the facets at the junction one by one: the copies still joined through a closed
+        // facet stay tied
+        let mut sizes = Vec::new();
+        for &i in &cols {
+            inserted[facet_at(i)] = true;
+            tie_junction(row, &inserted, 0, &mut tied);
+            let mut s: Vec<usize> = copies.iter().map(|&c| group(&tied, c)).collect();
+            s.sort_unstable();
+            sizes.push(s);
+        }
+        assert_eq!(sizes, vec![vec![3, 3, 3], vec![1, 2, 2], vec![1, 1, 1]]);
+        assert!(copies.iter().all(|&c| tied[c as usize] == u32::MAX));
     }
 }

@@ -3,7 +3,7 @@
 use crate::contact::{ContactParams, ContactState, ContactWorkspace, DetectionSurface};
 use crate::error::BuildError;
 use crate::law::cohesive::{ClosingTreatment, CohesiveState, LinearCohesive};
-use crate::mesh::interfaces::{FacetKind, InterfaceRow};
+use crate::mesh::interfaces::{FacetKind, InterfaceRow, NO_JUNCTION};
 use crate::mesh::nearest_node;
 use crate::mesh::structured::{Grid, GridSpec};
 use crate::model::bulk::{self, Stiffness};
@@ -101,8 +101,8 @@ fn held_twins(
 ) -> Vec<(u32, u32)> {
     let Some(row) = iface else { return Vec::new() };
     let mut twin = vec![u32::MAX; fixed_dof.len()];
-    for (&m, &p) in row.minus.iter().zip(&row.plus) {
-        if m != p {
+    for (i, (&m, &p)) in row.minus.iter().zip(&row.plus).enumerate() {
+        if m != p && row.col_junction[i] == NO_JUNCTION {
             twin[m as usize] = p;
             twin[p as usize] = m;
         }
@@ -115,6 +115,27 @@ fn held_twins(
             (t != u32::MAX && !fixed_dof[t as usize][b.dof as usize]).then_some((k as u32, t))
         })
         .collect()
+}
+
+/// A support on a copy of a junction is refused: its tie group would not follow the support
+/// (a held twin pair is supported by [`held_twins`]; a group of k ≥ 2 copies is not).
+fn held_junction(
+    row: &InterfaceRow,
+    prescribed: &[BoundaryDof],
+    x0: &[Vector2<f64>],
+) -> Result<(), BuildError> {
+    for cols in &row.junctions {
+        let copies = cols
+            .iter()
+            .flat_map(|&i| [row.minus[i as usize], row.plus[i as usize]]);
+        for n in copies {
+            if prescribed.iter().any(|p| p.node == n) {
+                let x = x0[n as usize];
+                return Err(BuildError::HeldJunction { x: x.x, y: x.y });
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The model from its mesh parts and the scene's options, with its initial state and workspace.
@@ -130,6 +151,9 @@ pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State,
     let mut fixed_dof = vec![[false; 2]; x0.len()];
     for p in &bd.prescribed {
         fixed_dof[p.node as usize][p.dof as usize] = true;
+    }
+    if let Some(row) = &iface {
+        held_junction(row, &bd.prescribed, &x0)?;
     }
     let held_twins = held_twins(&bd.prescribed, &fixed_dof, iface.as_ref());
     // the layers the grid's one-pass sweep leaves to the corrector (a Gmsh mesh has no sweep)
@@ -382,6 +406,46 @@ pub(crate) fn column_tied(row: &InterfaceRow, inserted: &[bool], i: usize) -> bo
     })
 }
 
+/// Ties the copies of junction j (docs/meshes.md, "Several chains"): the copies joined through
+/// tied columns (a closed facet at the junction joins its column's − and + copies) form one tie
+/// group, a ring in `tied_twin` (each copy names the next; a copy alone is untied). A pair is the
+/// ring of two, the same as a twin pair's tie. Allocates nothing.
+pub(crate) fn tie_junction(row: &InterfaceRow, inserted: &[bool], j: usize, tied_twin: &mut [u32]) {
+    let cols = &row.junctions[j];
+    for &i in cols {
+        let i = i as usize;
+        tied_twin[row.minus[i] as usize] = row.minus[i];
+        tied_twin[row.plus[i] as usize] = row.plus[i];
+    }
+    for &i in cols {
+        let i = i as usize;
+        let (a, b) = (row.minus[i] as usize, row.plus[i] as usize);
+        if column_tied(row, inserted, i) && !in_ring(tied_twin, a, b as u32) {
+            // splicing two rings at a and b makes one
+            tied_twin.swap(a, b);
+        }
+    }
+    for &i in cols {
+        for n in [row.minus[i as usize], row.plus[i as usize]] {
+            if tied_twin[n as usize] == n {
+                tied_twin[n as usize] = u32::MAX;
+            }
+        }
+    }
+}
+
+/// Whether node b is in the tie ring of node a (a tied pair: b is a's twin).
+pub(crate) fn in_ring(tied_twin: &[u32], a: usize, b: u32) -> bool {
+    let mut t = tied_twin[a];
+    while t != u32::MAX && t != a as u32 {
+        if t == b {
+            return true;
+        }
+        t = tied_twin[t as usize];
+    }
+    false
+}
+
 fn initial_state(model: &Model) -> State {
     let n = model.num_nodes();
     let nf = model.iface.as_ref().map_or(0, |r| r.num_facets());
@@ -408,11 +472,18 @@ fn initial_state(model: &Model) -> State {
     let mut contact = None;
     if let Some(row) = &model.iface {
         for i in 0..row.minus.len() {
-            // a crack tip inside the body is one node, not a pair
-            if row.minus[i] != row.plus[i] && column_tied(row, &facets.inserted, i) {
+            // a crack tip inside the body is one node, not a pair; a junction's columns are tied
+            // below, as a group
+            if row.minus[i] != row.plus[i]
+                && row.col_junction[i] == NO_JUNCTION
+                && column_tied(row, &facets.inserted, i)
+            {
                 tied_twin[row.minus[i] as usize] = row.plus[i];
                 tied_twin[row.plus[i] as usize] = row.minus[i];
             }
+        }
+        for j in 0..row.junctions.len() {
+            tie_junction(row, &facets.inserted, j, &mut tied_twin);
         }
         if model.contact.is_some() {
             let cap = 2 * row.num_interface_facets();

@@ -3,8 +3,8 @@
 //! insert when max_q σ_eff ≥ σ_c (or mean > σ_c); σ_c,eff = σ_eff, δ_c,eff = δ_c σ_c/σ_eff, T_ins = σ n.
 
 use crate::law::cohesive::{CohesiveState, LinearCohesive};
-use crate::mesh::interfaces::{FacetKind, InterfaceRow};
-use crate::model::build::{add_facet_faces, column_tied};
+use crate::mesh::interfaces::{FacetKind, InterfaceRow, NO_JUNCTION};
+use crate::model::build::{add_facet_faces, column_tied, tie_junction};
 use crate::model::cohesive::facet_gauss;
 use crate::model::state::{ContactPart, Facets, Model};
 use crate::model::stress::{self, Side};
@@ -74,7 +74,10 @@ pub(crate) fn check_and_insert(
             add_facet_faces(&mut cp.surface, row, c);
         }
         for i in ends {
-            if !column_tied(row, &facets.inserted, i) {
+            let j = row.col_junction[i];
+            if j != NO_JUNCTION {
+                tie_junction(row, &facets.inserted, j as usize, tied_twin);
+            } else if !column_tied(row, &facets.inserted, i) {
                 tied_twin[row.minus[i] as usize] = u32::MAX;
                 tied_twin[row.plus[i] as usize] = u32::MAX;
             }

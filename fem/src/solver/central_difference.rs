@@ -2,6 +2,7 @@
 //! values, bulk + cohesive + contact + external forces, tied-pair accelerations, corrector,
 //! insertion, 0.99 velocity scaling, energy bookkeeping. No I/O, no allocation.
 
+use crate::mesh::interfaces::{InterfaceRow, NO_JUNCTION};
 use crate::mesh::structured::LayerSide;
 use crate::model::state::{Model, State, Workspace};
 use crate::model::{bulk, cohesive, insertion};
@@ -251,11 +252,12 @@ fn reactions(model: &Model, state: &mut State, ws: &Workspace) {
 }
 
 /// Tied pairs move as one node: f⁻, f⁺ ← (f⁻ + f⁺) m^∓/(m⁻ + m⁺), so a = (f⁻+f⁺)/(m⁻+m⁺) on both.
+/// A tie group of k copies at a junction likewise: f_i ← (Σ_g f) m_i/Σ_g m over its ring g.
 fn combine_tied(model: &Model, state: &State, ws: &mut Workspace) {
     let Some(row) = &model.iface else { return };
     for i in 0..row.minus.len() {
         let (m, p) = (row.minus[i] as usize, row.plus[i] as usize);
-        if m == p || state.tied_twin[m] != p as u32 {
+        if m == p || row.col_junction[i] != NO_JUNCTION || state.tied_twin[m] != p as u32 {
             continue;
         }
         let (mm, mp) = (model.mass[m], model.mass[p]);
@@ -263,6 +265,50 @@ fn combine_tied(model: &Model, state: &State, ws: &mut Workspace) {
         ws.f[m] = sum * (mm / (mm + mp));
         ws.f[p] = sum * (mp / (mm + mp));
     }
+    for j in 0..row.junctions.len() {
+        for c in junction_copies(row, j) {
+            // each ring once, from its smallest node
+            if state.tied_twin[c] == u32::MAX || ring(&state.tied_twin, c).any(|n| n < c) {
+                continue;
+            }
+            let mass: f64 = ring(&state.tied_twin, c).map(|n| model.mass[n]).sum();
+            let sum: Vector2<f64> = ring(&state.tied_twin, c).map(|n| ws.f[n]).sum();
+            for n in ring(&state.tied_twin, c) {
+                ws.f[n] = sum * (model.mass[n] / mass);
+            }
+        }
+    }
+}
+
+/// The copies of junction j, each once (the − and + nodes of its columns).
+fn junction_copies(row: &InterfaceRow, j: usize) -> impl Iterator<Item = usize> + '_ {
+    let cols = &row.junctions[j];
+    let slot = move |k: usize| {
+        let i = cols[k / 2] as usize;
+        (if k.is_multiple_of(2) {
+            row.minus[i]
+        } else {
+            row.plus[i]
+        }) as usize
+    };
+    (0..2 * cols.len())
+        .filter(move |&k| (0..k).all(|q| slot(q) != slot(k)))
+        .map(slot)
+}
+
+/// The tie ring of node c: every node of its group, c last (empty when c is untied).
+fn ring(tied_twin: &[u32], c: usize) -> impl Iterator<Item = usize> + '_ {
+    let mut t = tied_twin[c];
+    let mut done = t == u32::MAX;
+    std::iter::from_fn(move || {
+        if done {
+            return None;
+        }
+        let n = t as usize;
+        done = n == c;
+        t = tied_twin[n];
+        Some(n)
+    })
 }
 
 /// a = f/m, v = v* + ½Δt a; returns max |v|² (∞ if any velocity is not finite). On a layer the
@@ -362,17 +408,23 @@ fn damping(model: &Model, state: &mut State) {
     let c = model.damping_factor;
     let in_contact = |n: usize| state.contact.as_ref().is_some_and(|cp| cp.state.in_contact[n]);
     let mut removed = 0.0;
-    for i in 0..row.minus.len() {
-        let (m, p) = (row.minus[i] as usize, row.plus[i] as usize);
+    let sets = |i: usize| {
         let inserted = state.facets.column_insert_time[i];
         let recent = |window: f64| state.t - inserted < window;
-        let (coh, contact) = match model.damping {
+        match model.damping {
             DampingSet::None => (false, false),
             DampingSet::ContactOnly => (false, true),
             DampingSet::Inserted { window } => (recent(window), false),
             DampingSet::ContactAndInserted { window } => (recent(window), true),
             DampingSet::AllCohesive => (!inserted.is_nan(), true),
-        };
+        }
+    };
+    for i in 0..row.minus.len() {
+        if row.col_junction[i] != NO_JUNCTION {
+            continue;
+        }
+        let (m, p) = (row.minus[i] as usize, row.plus[i] as usize);
+        let (coh, contact) = sets(i);
         let tied = state.tied_twin[m] == p as u32;
         let (mut dm, mut dp) = (coh || contact && in_contact(m), coh || contact && in_contact(p));
         if tied {
@@ -392,6 +444,29 @@ fn damping(model: &Model, state: &mut State) {
                     removed += 0.5 * model.mass[node] * (1.0 - c * c) * v * v;
                     state.v[node][d] *= c;
                 }
+            }
+        }
+    }
+    let factor = c;
+    // a junction's copies: each once, damped when it or a copy tied to it is in the set
+    for j in 0..row.junctions.len() {
+        let cols = &row.junctions[j];
+        let on = |n: usize| {
+            cols.iter().any(|&i| {
+                let i = i as usize;
+                let (coh, contact) = sets(i);
+                (row.minus[i] as usize == n || row.plus[i] as usize == n) && (coh || contact && in_contact(n))
+            })
+        };
+        for c in junction_copies(row, j) {
+            if !(on(c) || ring(&state.tied_twin, c).any(on)) {
+                continue;
+            }
+            for d in 0..2 {
+                // junction copies are never held (refused at build)
+                let v = state.v[c][d];
+                removed += 0.5 * model.mass[c] * (1.0 - factor * factor) * v * v;
+                state.v[c][d] *= factor;
             }
         }
     }

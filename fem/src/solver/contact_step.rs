@@ -88,4 +88,19 @@ fn failed_faces_only(
         frictionless[row.minus[i] as usize] = !broken;
         frictionless[row.plus[i] as usize] = !broken;
     }
+    // a junction's copy lies on several columns: friction only where all of them are broken
+    for cols in &row.junctions {
+        for &i in cols {
+            let i = i as usize;
+            let broken = row.column_facets(i).all(|c| match row.kind[c] {
+                FacetKind::PreCrack => true,
+                FacetKind::Cohesive => facets.inserted[c] && facets.gauss[c].iter().all(|g| g.damage >= 1.0),
+                FacetKind::Plain => false,
+            });
+            if !broken {
+                frictionless[row.minus[i] as usize] = true;
+                frictionless[row.plus[i] as usize] = true;
+            }
+        }
+    }
 }

@@ -46,6 +46,8 @@ mod fem_friction_sliding;
 #[cfg(feature = "fem")]
 mod fem_insertion_oscillations;
 #[cfg(feature = "fem")]
+mod fem_junction;
+#[cfg(feature = "fem")]
 mod fem_mesh_center_crack;
 #[cfg(feature = "fem")]
 mod fem_patch_test;

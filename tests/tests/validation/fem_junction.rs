@@ -1,0 +1,161 @@
+//! A T junction of interfaces on a Gmsh mesh (`meshes/t-junction.msh`): "interface" across the
+//! 2 m × 1 m body at y = 0.5 m and "branch" from the junction (1, 0.5) m up to the top. The
+//! junction's node is split into one copy per sector (below, upper left, upper right), the three
+//! chains end there, and the copies stay tied as one node while a facet at the junction is closed.
+//! 1. Biaxial tension (`scenes/tiny-fem-t-junction.toml`): every Gauss point of the three chains
+//!    breaks, the audit's dissipation is G_c times the length of both curves, the energy balance
+//!    closes.
+//! 2. Shear under pressure (`scenes/tiny-fem-t-junction-shear.toml`): the upper blocks, cut off
+//!    along the whole horizontal interface, slide on the lower one in contact with friction, and
+//!    the faces meet at the junction's 90° corners: no penetration beyond p_N/ε_n on any chain,
+//!    no contact lost, each broken point dissipated G_c, the energy balance closes.
+
+use std::sync::OnceLock;
+use validation::{repo_root, scene_text};
+
+// As in `fem_chains`: the trapezoid ∫T·dΔ errs by O(G_c (Δδ/δ_c)²) at the steps holding a kink
+// of the law. Measured −0.30 % at time_step_safety = 0.25 (−1.07 % at 0.5: the whole interface
+// unloads at once, fast, so Δδ per step is large; the error fell 3.6 times for half the step).
+const TOL_DISSIPATION_REL: f64 = 0.005;
+// Per broken Gauss point under shear: measured at most 0.53 %; 1 % as in `fem_arc_interface`.
+const TOL_POINT_WORK_REL: f64 = 0.01;
+// The energy balance of the other FE tests, |residual| < 1 % of W_ext.
+const TOL_BALANCE_REL: f64 = 0.01;
+
+fn run(name: &str) -> &'static (fem::Scene, fem::RunOutput) {
+    static TENSION: OnceLock<(fem::Scene, fem::RunOutput)> = OnceLock::new();
+    static SHEAR: OnceLock<(fem::Scene, fem::RunOutput)> = OnceLock::new();
+    let cell = if name == "tiny-fem-t-junction" {
+        &TENSION
+    } else {
+        &SHEAR
+    };
+    cell.get_or_init(|| {
+        let scene = fem::Scene::from_toml_str_in(&scene_text(name), &repo_root().join("scenes")).unwrap();
+        let out = fem::run(&scene).unwrap();
+        println!("{name}: {} steps of {:.4e} s", out.steps, out.time_step);
+        (scene, out)
+    })
+}
+
+/// Total length [m] of the line elements of the physical curves `groups` of t-junction.msh.
+fn curve_length(groups: &[&str]) -> f64 {
+    let path = repo_root().join("meshes").join("t-junction.msh");
+    let mesh = fem::gmsh::UnstructuredMesh::read(&path).unwrap();
+    groups
+        .iter()
+        .flat_map(|g| mesh.groups[*g].elements.iter())
+        .map(|&l| {
+            let [a, b] = mesh.lines[l].nodes;
+            (mesh.positions[b] - mesh.positions[a]).norm()
+        })
+        .sum()
+}
+
+fn g_c(scene: &fem::Scene) -> f64 {
+    let law = scene
+        .interface
+        .expect("invariant: the scene has an interface law");
+    0.5 * law.sigma_c * law.delta_c // J/m²
+}
+
+/// Deepest penetration [m] and the largest excess of a penetration over p_N/ε_n [m].
+fn penetrations(scene: &fem::Scene, out: &fem::RunOutput) -> (f64, f64) {
+    let eps_n = scene.fem.eps_n;
+    let beyond = out
+        .faces
+        .iter()
+        .map(|f| f.penetration - f.normal_traction / eps_n)
+        .fold(0.0, f64::max);
+    (
+        out.faces.iter().map(|f| f.penetration).fold(0.0, f64::max),
+        beyond,
+    )
+}
+
+#[test]
+fn a_t_junction_pulled_apart_breaks_everywhere_and_dissipates_g_c_times_its_length() {
+    let (scene, out) = run("tiny-fem-t-junction");
+    let length = curve_length(&["interface", "branch"]);
+    assert!((length - 2.5).abs() < 1e-9, "{length}");
+    // three chains end at the junction: left and right of it along y = 0.5 m, and up from it
+    for k in 0..3u16 {
+        let points: Vec<_> = out.arrivals.iter().filter(|a| a.chain == Some(k)).collect();
+        assert!(!points.is_empty(), "chain {k} has no points");
+        assert!(
+            points.iter().all(|a| a.failure_time.is_finite()),
+            "chain {k}: not all broken"
+        );
+    }
+    assert_eq!(out.arrivals.len(), 50); // 25 facets of 0.1 m, 2 Gauss points each
+    let e = out.energy.last().unwrap();
+    let expect = g_c(scene) * length; // J/m
+    let rel = e.cohesive_dissipated / expect - 1.0;
+    println!(
+        "dissipated {:.2} J/m, G_c L = {expect:.2} J/m ({:+.3} %)",
+        e.cohesive_dissipated,
+        100.0 * rel
+    );
+    assert!(rel.abs() <= TOL_DISSIPATION_REL);
+    let (deepest, beyond) = penetrations(scene, out);
+    println!("deepest penetration {deepest:.3e} m, beyond p_N/ε_n by at most {beyond:.1e} m");
+    assert!(beyond <= 1e-12);
+    let (balance, w_ext) = validation::worst_energy_residual(out);
+    println!("energy residual: worst {balance:.2e} of W_ext ({w_ext:.1} J/m at T)");
+    assert!(balance < TOL_BALANCE_REL);
+}
+
+#[test]
+fn a_t_junction_sheared_under_pressure_slides_in_contact_at_its_corners() {
+    let (scene, out) = run("tiny-fem-t-junction-shear");
+    let g_c = g_c(scene);
+    // the horizontal interface (chains 0 and 1) breaks along its whole length
+    let across: Vec<_> = out
+        .arrivals
+        .iter()
+        .filter(|a| a.chain.is_some_and(|k| k < 2))
+        .collect();
+    assert_eq!(across.len(), 40);
+    assert!(across.iter().all(|a| a.failure_time.is_finite()));
+    let broken: Vec<_> = out
+        .arrivals
+        .iter()
+        .filter(|a| a.failure_time.is_finite())
+        .collect();
+    let worst = broken
+        .iter()
+        .map(|a| (a.work_density / g_c - 1.0).abs())
+        .fold(0.0, f64::max);
+    let mean = broken.iter().map(|a| a.work_density).sum::<f64>() / broken.len() as f64 / g_c - 1.0;
+    println!(
+        "{} of {} Gauss points broken: mean ∫T·dΔ {:+.3} % off G_c, worst {:.3} %",
+        broken.len(),
+        out.arrivals.len(),
+        100.0 * mean,
+        100.0 * worst
+    );
+    assert!(mean.abs() <= TOL_DISSIPATION_REL && worst <= TOL_POINT_WORK_REL);
+    // contact on every chain, the branch's faces included, and never deeper than p_N/ε_n
+    for k in 0..3u16 {
+        let pressed = out
+            .faces
+            .iter()
+            .filter(|f| f.chain == Some(k) && f.penetration > 0.0)
+            .count();
+        println!("chain {k}: {pressed} face records in contact");
+        assert!(pressed > 0, "chain {k}: no contact");
+    }
+    let (deepest, beyond) = penetrations(scene, out);
+    println!("deepest penetration {deepest:.3e} m, beyond p_N/ε_n by at most {beyond:.1e} m");
+    assert!(deepest > 0.0 && beyond <= 1e-12);
+    let dropped: usize = out.contact.iter().map(|c| c.dropped_contacts_step).sum();
+    assert_eq!(dropped, 0, "contacts lost to the detection distance");
+    let e = out.energy.last().unwrap();
+    println!(
+        "friction dissipated {:.1} J/m, contact work {:.1} J/m",
+        e.friction_dissipated, e.contact_work
+    );
+    let (balance, w_ext) = validation::worst_energy_residual(out);
+    println!("energy residual: worst {balance:.2e} of W_ext ({w_ext:.1} J/m at T)");
+    assert!(balance < TOL_BALANCE_REL);
+}
