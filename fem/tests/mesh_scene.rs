@@ -306,39 +306,63 @@ fn a_junction_of_interfaces_is_taken_together_or_curve_by_curve() {
 /// as one node, so while tied the twin follows the support too, and the support's work includes
 /// the force passed through the tie.
 fn held_end_scene() -> String {
-    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../meshes/held-end.msh");
+    block_scene(
+        "held-end",
+        0.2e6,
+        0.1,
+        r#"[fem.boundary.bottom]
+x = { kind = "displacement", initial = 0.0, final = 0.0, ramp_start = 0.0, ramp_end = 0.0 }   # m
+y = { kind = "displacement", initial = 0.0, final = 0.0, ramp_start = 0.0, ramp_end = 0.0 }   # m
+[fem.boundary.left]
+x = { kind = "displacement", initial = 0.0, final = 0.0, ramp_start = 0.0, ramp_end = 0.0 }   # m
+[fem.boundary.top]
+x = { kind = "traction", initial = 0.0, final = 0.3e6, ramp_start = 0.0, ramp_end = 0.1 }     # Pa
+y = { kind = "traction", initial = 0.0, final = 0.05e6, ramp_start = 0.0, ramp_end = 0.1 }    # Pa
+"#,
+    )
+}
+
+/// A scene on `meshes/<mesh>.msh` (surface `bulk`, curve `interface`): the paper's material, a
+/// cohesive law of strength `sigma_c` [Pa] and δ_c = 1 cm (a process zone of several 0.1 m
+/// elements), μ = 0.3, ε_n = ε_t = 0.3 E/h at h = 0.1 m, run for `duration` [s] under `boundary`
+/// (its `[fem.boundary.*]` tables).
+fn block_scene(mesh: &str, sigma_c: f64, duration: f64, boundary: &str) -> String {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../meshes/{mesh}.msh"));
     format!(
-        r#"name = "held-end"
+        r#"name = "{mesh}"
 {PAPER_MATERIAL}[interface]
-sigma_c = 0.2e6                 # Pa
+sigma_c = {sigma_c:e}           # Pa
 delta_c = 1e-2                  # m
 beta = 1.0                      # -
 kappa = 1.0                     # -
 [friction]
 friction_coeff = 0.3            # -
 [loading]
-duration = 0.1                  # s   (about 30 transits of the block's height by the P wave)
+duration = {duration:e}         # s
 [fem]
 model = "hybrid"
 time_step_safety = 0.5          # -
 eps_n = 2.1e8                   # Pa/m
 eps_t = 2.1e8                   # Pa/m
-output_interval = 1e-3          # s
+output_interval = 2e-3          # s
 [fem.mesh]
 file = "{}"
 bulk = ["bulk"]
 interface = ["interface"]
-[fem.boundary.bottom]
-x = {{ kind = "displacement", initial = 0.0, final = 0.0, ramp_start = 0.0, ramp_end = 0.0 }}   # m
-y = {{ kind = "displacement", initial = 0.0, final = 0.0, ramp_start = 0.0, ramp_end = 0.0 }}   # m
-[fem.boundary.left]
-x = {{ kind = "displacement", initial = 0.0, final = 0.0, ramp_start = 0.0, ramp_end = 0.0 }}   # m
-[fem.boundary.top]
-x = {{ kind = "traction", initial = 0.0, final = 0.3e6, ramp_start = 0.0, ramp_end = 0.1 }}     # Pa
-y = {{ kind = "traction", initial = 0.0, final = 0.05e6, ramp_start = 0.0, ramp_end = 0.1 }}    # Pa
-"#,
+{boundary}"#,
         file.display()
     )
+}
+
+/// Worst |residual| / W_ext of a run's energy records once W_ext exceeds 1e-3 of its final value,
+/// and the time [s] it occurs.
+fn worst_residual(out: &fem::RunOutput) -> (f64, f64) {
+    let w_final = out.energy.last().unwrap().boundary_work;
+    out.energy
+        .iter()
+        .filter(|e| e.boundary_work > 1e-3 * w_final)
+        .map(|e| (e.residual.abs() / e.boundary_work, e.t))
+        .fold((0.0f64, 0.0), |a, b| if b.0 > a.0 { b } else { a })
 }
 
 /// The energy audit closes when a held boundary curve ends at an interface chain's end: the
@@ -357,13 +381,7 @@ fn a_support_that_ends_at_an_interface_end_holds_the_tied_pair() {
         inserted > 0 && failed > 0,
         "{inserted} inserted, {failed} failed: the run must break the interface"
     );
-    let w_final = out.energy.last().unwrap().boundary_work;
-    let worst = out
-        .energy
-        .iter()
-        .filter(|e| e.boundary_work > 1e-3 * w_final)
-        .map(|e| (e.residual.abs() / e.boundary_work, e.t))
-        .fold((0.0f64, 0.0), |a, b| if b.0 > a.0 { b } else { a });
+    let worst = worst_residual(&out);
     println!(
         "{inserted} points inserted, {failed} failed; worst residual {:.2e} of W_ext at t = {} s",
         worst.0, worst.1
@@ -497,36 +515,17 @@ fn a_mesh_without_materials_is_one_material() {
 /// dragged 5 cm along −x by its top over the fixed bottom: the vertical leg opens, the
 /// horizontal one breaks in shear under compression and slides.
 fn kink_scene() -> String {
-    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../meshes/kink.msh");
-    format!(
-        r#"name = "kink"
-{PAPER_MATERIAL}[interface]
-sigma_c = 0.4e6                 # Pa
-delta_c = 1e-2                  # m
-beta = 1.0                      # -
-kappa = 1.0                     # -
-[friction]
-friction_coeff = 0.3            # -
-[loading]
-duration = 0.3                  # s
-[fem]
-model = "hybrid"
-time_step_safety = 0.5          # -
-eps_n = 2.1e8                   # Pa/m  (0.3 E/h at h = 0.1 m)
-eps_t = 2.1e8                   # Pa/m
-output_interval = 2e-3          # s
-[fem.mesh]
-file = "{}"
-bulk = ["bulk"]
-interface = ["interface"]
-[fem.boundary.bottom]
-x = {{ kind = "displacement", initial = 0.0, final = 0.0, ramp_start = 0.0, ramp_end = 0.0 }}   # m
-y = {{ kind = "displacement", initial = 0.0, final = 0.0, ramp_start = 0.0, ramp_end = 0.0 }}   # m
+    block_scene(
+        "kink",
+        0.4e6,
+        0.3,
+        r#"[fem.boundary.bottom]
+x = { kind = "displacement", initial = 0.0, final = 0.0, ramp_start = 0.0, ramp_end = 0.0 }   # m
+y = { kind = "displacement", initial = 0.0, final = 0.0, ramp_start = 0.0, ramp_end = 0.0 }   # m
 [fem.boundary.top]
-x = {{ kind = "displacement", initial = 0.0, final = -0.05, ramp_start = 0.05, ramp_end = 0.25 }} # m
-y = {{ kind = "traction", initial = 0.0, final = -0.1e6, ramp_start = 0.0, ramp_end = 0.04 }}    # Pa
+x = { kind = "displacement", initial = 0.0, final = -0.05, ramp_start = 0.05, ramp_end = 0.25 } # m
+y = { kind = "traction", initial = 0.0, final = -0.1e6, ramp_start = 0.0, ramp_end = 0.04 }    # Pa
 "#,
-        file.display()
     )
 }
 
@@ -542,13 +541,7 @@ fn contact_across_a_right_angled_kink_keeps_the_energy_balance() {
     let out = fem::run(&scene).unwrap();
     let failed = out.arrivals.iter().filter(|a| !a.failure_time.is_nan()).count();
     assert!(failed > 0, "the interface must break");
-    let w_final = out.energy.last().unwrap().boundary_work;
-    let worst = out
-        .energy
-        .iter()
-        .filter(|e| e.boundary_work > 1e-3 * w_final)
-        .map(|e| (e.residual.abs() / e.boundary_work, e.t))
-        .fold((0.0f64, 0.0), |a, b| if b.0 > a.0 { b } else { a });
+    let worst = worst_residual(&out);
     let lost = out.contact.last().map_or(0, |c| c.dropped_contacts_total);
     println!(
         "{failed} points failed; worst residual {:.2e} of W_ext at t = {} s; {lost} contacts lost",

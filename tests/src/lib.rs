@@ -16,6 +16,35 @@ pub fn scene_text(name: &str) -> String {
     std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()))
 }
 
+/// Runs `scenes/<name>.toml` (relative paths resolved from `scenes/`) and prints its steps.
+pub fn run_repo_scene(name: &str) -> (fem::Scene, fem::RunOutput) {
+    let scene = fem::Scene::from_toml_str_in(&scene_text(name), &repo_root().join("scenes")).unwrap();
+    let out = fem::run(&scene).unwrap();
+    println!("{name}: {} steps of {:.4e} s", out.steps, out.time_step);
+    (scene, out)
+}
+
+/// Total length [m] of the line elements of the physical curves `groups` of `meshes/<mesh>`.
+pub fn curve_length(mesh: &str, groups: &[&str]) -> f64 {
+    let mesh = fem::gmsh::UnstructuredMesh::read(&repo_root().join("meshes").join(mesh)).unwrap();
+    groups
+        .iter()
+        .flat_map(|g| mesh.groups[*g].elements.iter())
+        .map(|&l| {
+            let [a, b] = mesh.lines[l].nodes;
+            (mesh.positions[b] - mesh.positions[a]).norm()
+        })
+        .sum()
+}
+
+/// Fracture energy G_c = σ_c δ_c / 2 [J/m²] of the scene's `[interface]` law.
+pub fn g_c(scene: &fem::Scene) -> f64 {
+    let law = scene
+        .interface
+        .expect("invariant: the scene has an interface law");
+    0.5 * law.sigma_c * law.delta_c
+}
+
 /// Returns `text` with dotted keys (`"fem.eps_n"`) set to new values; a `None` value removes the key.
 /// Intermediate tables are created when missing. The tests vary the small scenes this way; the
 /// harness itself derives its runs from typed scenes instead.

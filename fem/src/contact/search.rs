@@ -196,7 +196,6 @@ impl BucketGrid {
     }
 }
 
-
 /// The most nodes a slave may be tied to: a junction of up to 8 sectors (docs/meshes.md).
 pub(crate) const MAX_TIED: usize = 7;
 

@@ -13,7 +13,7 @@
 //!    dissipated G_c, the energy balance closes and no face penetrates deeper than p_N/ε_n.
 
 use std::sync::OnceLock;
-use validation::{repo_root, scene_text};
+use validation::{curve_length, g_c, run_repo_scene};
 
 // The single-element G_c test's tolerance (`fem_cohesive_law`) and the arc's (`fem_arc_interface`):
 // the trapezoid ∫T·dΔ is exact on the law's linear branches and errs by O(G_c (Δδ/δ_c)²) at the
@@ -37,32 +37,7 @@ fn run(name: &str) -> &'static (fem::Scene, fem::RunOutput) {
     } else {
         &INCLUSION
     };
-    cell.get_or_init(|| {
-        let scene = fem::Scene::from_toml_str_in(&scene_text(name), &repo_root().join("scenes")).unwrap();
-        let out = fem::run(&scene).unwrap();
-        println!("{name}: {} steps of {:.4e} s", out.steps, out.time_step);
-        (scene, out)
-    })
-}
-
-/// Total length [m] of the line elements of the physical curves `groups` of a mesh in meshes/.
-fn curve_length(mesh: &str, groups: &[&str]) -> f64 {
-    let mesh = fem::gmsh::UnstructuredMesh::read(&repo_root().join("meshes").join(mesh)).unwrap();
-    groups
-        .iter()
-        .flat_map(|g| mesh.groups[*g].elements.iter())
-        .map(|&l| {
-            let [a, b] = mesh.lines[l].nodes;
-            (mesh.positions[b] - mesh.positions[a]).norm()
-        })
-        .sum()
-}
-
-fn g_c(scene: &fem::Scene) -> f64 {
-    let law = scene
-        .interface
-        .expect("invariant: the scene has an interface law");
-    0.5 * law.sigma_c * law.delta_c // J/m²
+    cell.get_or_init(|| run_repo_scene(name))
 }
 
 #[test]

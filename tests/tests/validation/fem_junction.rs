@@ -11,7 +11,7 @@
 //!    no contact lost, each broken point dissipated G_c, the energy balance closes.
 
 use std::sync::OnceLock;
-use validation::{repo_root, scene_text};
+use validation::{curve_length, g_c, run_repo_scene};
 
 // As in `fem_chains`: the trapezoid ∫T·dΔ errs by O(G_c (Δδ/δ_c)²) at the steps holding a kink
 // of the law. Measured −0.30 % at time_step_safety = 0.25 (−1.07 % at 0.5: the whole interface
@@ -30,33 +30,7 @@ fn run(name: &str) -> &'static (fem::Scene, fem::RunOutput) {
     } else {
         &SHEAR
     };
-    cell.get_or_init(|| {
-        let scene = fem::Scene::from_toml_str_in(&scene_text(name), &repo_root().join("scenes")).unwrap();
-        let out = fem::run(&scene).unwrap();
-        println!("{name}: {} steps of {:.4e} s", out.steps, out.time_step);
-        (scene, out)
-    })
-}
-
-/// Total length [m] of the line elements of the physical curves `groups` of t-junction.msh.
-fn curve_length(groups: &[&str]) -> f64 {
-    let path = repo_root().join("meshes").join("t-junction.msh");
-    let mesh = fem::gmsh::UnstructuredMesh::read(&path).unwrap();
-    groups
-        .iter()
-        .flat_map(|g| mesh.groups[*g].elements.iter())
-        .map(|&l| {
-            let [a, b] = mesh.lines[l].nodes;
-            (mesh.positions[b] - mesh.positions[a]).norm()
-        })
-        .sum()
-}
-
-fn g_c(scene: &fem::Scene) -> f64 {
-    let law = scene
-        .interface
-        .expect("invariant: the scene has an interface law");
-    0.5 * law.sigma_c * law.delta_c // J/m²
+    cell.get_or_init(|| run_repo_scene(name))
 }
 
 /// Deepest penetration [m] and the largest excess of a penetration over p_N/ε_n [m].
@@ -76,7 +50,7 @@ fn penetrations(scene: &fem::Scene, out: &fem::RunOutput) -> (f64, f64) {
 #[test]
 fn a_t_junction_pulled_apart_breaks_everywhere_and_dissipates_g_c_times_its_length() {
     let (scene, out) = run("tiny-fem-t-junction");
-    let length = curve_length(&["interface", "branch"]);
+    let length = curve_length("t-junction.msh", &["interface", "branch"]);
     assert!((length - 2.5).abs() < 1e-9, "{length}");
     // three chains end at the junction: left and right of it along y = 0.5 m, and up from it
     for k in 0..3u16 {
