@@ -236,34 +236,8 @@ fn ramp(field: &str, r: Option<RawRamp>, duration: f64) -> Result<Ramp, SceneErr
     })
 }
 
-fn material(m: &raw::RawMaterial) -> Result<PlaneStrain, SceneError> {
-    check(
-        "material.youngs_modulus",
-        m.youngs_modulus,
-        m.youngs_modulus > 0.0,
-        "> 0 Pa",
-    )?;
-    check(
-        "material.poisson_ratio",
-        m.poisson_ratio,
-        (0.0..0.5).contains(&m.poisson_ratio),
-        "[0, 0.5)",
-    )?;
-    check("material.density", m.density, m.density > 0.0, "> 0 kg/m^3")?;
-    Ok(PlaneStrain::new(m.youngs_modulus, m.poisson_ratio, m.density))
-}
-
 fn interface(i: &raw::RawInterface) -> Result<LinearCohesive, SceneError> {
-    check("interface.sigma_c", i.sigma_c, i.sigma_c > 0.0, "> 0 Pa")?;
-    check("interface.delta_c", i.delta_c, i.delta_c > 0.0, "> 0 m")?;
-    check("interface.beta", i.beta, i.beta > 0.0, "> 0")?;
-    check("interface.kappa", i.kappa, i.kappa > 0.0, "> 0")?;
-    Ok(LinearCohesive {
-        sigma_c: i.sigma_c,
-        delta_c: i.delta_c,
-        beta: i.beta,
-        kappa: i.kappa,
-    })
+    checks::cohesive_law("interface", [i.sigma_c, i.delta_c, i.beta, i.kappa])
 }
 
 fn crack(c: &raw::RawCrack) -> Result<Crack, SceneError> {
@@ -280,7 +254,7 @@ fn crack(c: &raw::RawCrack) -> Result<Crack, SceneError> {
 fn validate(raw: RawScene) -> Result<Scene, SceneError> {
     let kept = raw.clone();
     let mut errors = Vec::new();
-    let material = keep(&mut errors, material(&raw.material));
+    let material = keep(&mut errors, checks::material("material", &raw.material));
     let interface = keep(&mut errors, raw.interface.as_ref().map(interface).transpose());
     let crack = keep(&mut errors, raw.crack.as_ref().map(crack).transpose());
     let friction_coeff = raw.friction.as_ref().map_or(0.0, |f| f.friction_coeff);

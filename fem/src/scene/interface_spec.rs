@@ -2,7 +2,7 @@
 //! (`interface_sine`), stretches with their own cohesive law (`interface_zones`) and which faces
 //! join the contact detection surface (`contact_surface`, paper eqs. (10) and (16)).
 
-use super::checks::{check, inconsistent, option};
+use super::checks::{check, cohesive_law, inconsistent, option};
 use super::raw::{RawFem, RawSine, RawZone};
 use crate::error::SceneError;
 use crate::law::cohesive::LinearCohesive;
@@ -84,18 +84,12 @@ fn zone(f: &RawFem, k: usize, z: &RawZone) -> Result<InterfaceZone, SceneError> 
         x0 >= f.x_range[0] && x1 <= f.x_range[1] && x1 > x0,
         "x_range[0] < x_range[1], inside fem.x_range [m]",
     )?;
-    check(key("sigma_c"), z.sigma_c, z.sigma_c > 0.0, "> 0 Pa")?;
-    check(key("delta_c"), z.delta_c, z.delta_c > 0.0, "> 0 m")?;
-    check(key("beta"), z.beta, z.beta > 0.0, "> 0")?;
-    check(key("kappa"), z.kappa, z.kappa > 0.0, "> 0")?;
     Ok(InterfaceZone {
         x_range: z.x_range,
-        law: LinearCohesive {
-            sigma_c: z.sigma_c,
-            delta_c: z.delta_c,
-            beta: z.beta,
-            kappa: z.kappa,
-        },
+        law: cohesive_law(
+            &format!("fem.interface_zones[{k}]"),
+            [z.sigma_c, z.delta_c, z.beta, z.kappa],
+        )?,
     })
 }
 

@@ -2,7 +2,7 @@
 //! is read, its groups given their roles and its interface split here, during validation, so that
 //! a missing group or a bad mesh is reported before any work (docs/scenes.md, "[fem.mesh]").
 
-use super::checks::{check, inconsistent};
+use super::checks::{cohesive_law, inconsistent, material};
 use super::problem::Crack;
 use super::raw::{RawFem, RawMesh};
 use crate::error::SceneError;
@@ -207,7 +207,6 @@ fn curve_laws(f: &RawFem, m: &RawMesh, roles: &MeshRoles) -> Result<Vec<Option<L
         ));
     }
     for (name, raw) in laws {
-        let key = |field: &str| format!("fem.mesh.laws.{name}.{field}");
         let Some(k) = roles.interface.iter().position(|c| c == name) else {
             return Err(inconsistent(
                 format!("fem.mesh.laws.{name}"),
@@ -217,16 +216,10 @@ fn curve_laws(f: &RawFem, m: &RawMesh, roles: &MeshRoles) -> Result<Vec<Option<L
                 ),
             ));
         };
-        check(key("sigma_c"), raw.sigma_c, raw.sigma_c > 0.0, "> 0 Pa")?;
-        check(key("delta_c"), raw.delta_c, raw.delta_c > 0.0, "> 0 m")?;
-        check(key("beta"), raw.beta, raw.beta > 0.0, "> 0")?;
-        check(key("kappa"), raw.kappa, raw.kappa > 0.0, "> 0")?;
-        out[k] = Some(LinearCohesive {
-            sigma_c: raw.sigma_c,
-            delta_c: raw.delta_c,
-            beta: raw.beta,
-            kappa: raw.kappa,
-        });
+        out[k] = Some(cohesive_law(
+            &format!("fem.mesh.laws.{name}"),
+            [raw.sigma_c, raw.delta_c, raw.beta, raw.kappa],
+        )?);
     }
     Ok(out)
 }
@@ -247,7 +240,6 @@ fn surface_materials(m: &RawMesh, roles: &MeshRoles) -> Result<Vec<Option<PlaneS
         ));
     }
     for (name, raw) in materials {
-        let key = |field: &str| format!("fem.mesh.materials.{name}.{field}");
         let Some(k) = roles.bulk.iter().position(|c| c == name) else {
             return Err(inconsistent(
                 format!("fem.mesh.materials.{name}"),
@@ -261,11 +253,7 @@ fn surface_materials(m: &RawMesh, roles: &MeshRoles) -> Result<Vec<Option<PlaneS
                 ),
             ));
         };
-        let (e, nu, rho) = (raw.youngs_modulus, raw.poisson_ratio, raw.density);
-        check(key("youngs_modulus"), e, e > 0.0, "> 0 Pa")?;
-        check(key("poisson_ratio"), nu, (0.0..0.5).contains(&nu), "[0, 0.5)")?;
-        check(key("density"), rho, rho > 0.0, "> 0 kg/m^3")?;
-        out[k] = Some(PlaneStrain::new(e, nu, rho));
+        out[k] = Some(material(&format!("fem.mesh.materials.{name}"), raw)?);
     }
     Ok(out)
 }
