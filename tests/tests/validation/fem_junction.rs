@@ -9,6 +9,11 @@
 //!    along the whole horizontal interface, slide on the lower one in contact with friction, and
 //!    the faces meet at the junction's 90° corners: no penetration beyond p_N/ε_n on any chain,
 //!    no contact lost, each broken point dissipated G_c, the energy balance closes.
+//! 3. An X junction (`meshes/x-junction.msh`, `scenes/tiny-fem-x-junction.toml`): "branch" now
+//!    crosses the whole height, four chains meet at (1, 0.5) m and the crossing's node is split
+//!    into four copies (one per block). Under the same biaxial tension every Gauss point of the
+//!    four chains breaks, the dissipation is G_c times the length of both curves (3 m), the
+//!    energy balance closes.
 
 use std::sync::OnceLock;
 use validation::{curve_length, g_c, run_repo_scene};
@@ -25,10 +30,11 @@ const TOL_BALANCE_REL: f64 = 0.01;
 fn run(name: &str) -> &'static (fem::Scene, fem::RunOutput) {
     static TENSION: OnceLock<(fem::Scene, fem::RunOutput)> = OnceLock::new();
     static SHEAR: OnceLock<(fem::Scene, fem::RunOutput)> = OnceLock::new();
-    let cell = if name == "tiny-fem-t-junction" {
-        &TENSION
-    } else {
-        &SHEAR
+    static CROSS: OnceLock<(fem::Scene, fem::RunOutput)> = OnceLock::new();
+    let cell = match name {
+        "tiny-fem-t-junction" => &TENSION,
+        "tiny-fem-t-junction-shear" => &SHEAR,
+        _ => &CROSS,
     };
     cell.get_or_init(|| run_repo_scene(name))
 }
@@ -47,21 +53,25 @@ fn penetrations(scene: &fem::Scene, out: &fem::RunOutput) -> (f64, f64) {
     )
 }
 
-#[test]
-fn a_t_junction_pulled_apart_breaks_everywhere_and_dissipates_g_c_times_its_length() {
-    let (scene, out) = run("tiny-fem-t-junction");
-    let length = curve_length("t-junction.msh", &["interface", "branch"]);
-    assert!((length - 2.5).abs() < 1e-9, "{length}");
-    // three chains end at the junction: left and right of it along y = 0.5 m, and up from it
-    for k in 0..3u16 {
-        let points: Vec<_> = out.arrivals.iter().filter(|a| a.chain == Some(k)).collect();
-        assert!(!points.is_empty(), "chain {k} has no points");
+/// Asserts that the junction scene `name` on `mesh` (interfaces "interface" and "branch" of
+/// total length `length` [m], `chains` chains, `points` Gauss points) breaks everywhere,
+/// dissipates G_c times its length, never penetrates beyond p_N/ε_n and closes its energy
+/// balance.
+fn pulled_apart(name: &str, mesh: &str, length: f64, chains: u16, points: usize) {
+    let (scene, out) = run(name);
+    let measured = curve_length(mesh, &["interface", "branch"]);
+    assert!((measured - length).abs() < 1e-9, "{measured}");
+    // each chain ends at the junction
+    for k in 0..chains {
+        let on: Vec<_> = out.arrivals.iter().filter(|a| a.chain == Some(k)).collect();
+        assert!(!on.is_empty(), "chain {k} has no points");
         assert!(
-            points.iter().all(|a| a.failure_time.is_finite()),
+            on.iter().all(|a| a.failure_time.is_finite()),
             "chain {k}: not all broken"
         );
     }
-    assert_eq!(out.arrivals.len(), 50); // 25 facets of 0.1 m, 2 Gauss points each
+    assert!(out.arrivals.iter().all(|a| a.chain.is_some_and(|k| k < chains)));
+    assert_eq!(out.arrivals.len(), points);
     let e = out.energy.last().unwrap();
     let expect = g_c(scene) * length; // J/m
     let rel = e.cohesive_dissipated / expect - 1.0;
@@ -77,6 +87,19 @@ fn a_t_junction_pulled_apart_breaks_everywhere_and_dissipates_g_c_times_its_leng
     let (balance, w_ext) = validation::worst_energy_residual(out);
     println!("energy residual: worst {balance:.2e} of W_ext ({w_ext:.1} J/m at T)");
     assert!(balance < TOL_BALANCE_REL);
+}
+
+#[test]
+fn a_t_junction_pulled_apart_breaks_everywhere_and_dissipates_g_c_times_its_length() {
+    // three chains: left and right of the junction along y = 0.5 m, and up from it; 25 facets
+    // of 0.1 m, 2 Gauss points each
+    pulled_apart("tiny-fem-t-junction", "t-junction.msh", 2.5, 3, 50);
+}
+
+#[test]
+fn an_x_junction_pulled_apart_breaks_everywhere_and_dissipates_g_c_times_its_length() {
+    // four chains: left, right, below and above the crossing; 30 facets of 0.1 m
+    pulled_apart("tiny-fem-x-junction", "x-junction.msh", 3.0, 4, 60);
 }
 
 #[test]
