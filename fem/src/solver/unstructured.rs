@@ -30,7 +30,7 @@ use crate::law::elastic::PlaneStrain;
 use crate::mesh::nearest_node;
 use crate::model::bulk;
 use crate::model::reduce::ordered_sum;
-use crate::model::unstructured::{UnstructuredBulk, UnstructuredError};
+use crate::model::unstructured::{BulkMaterial, UnstructuredBulk, UnstructuredError};
 use crate::output::ProbeRecord;
 use crate::scene::Ramp;
 use nalgebra::Vector2;
@@ -47,6 +47,25 @@ pub enum DriverError {
     /// The bulk kernel refused the mesh or the density.
     #[error(transparent)]
     Kernel(#[from] UnstructuredError),
+    /// A surface material names a physical group the mesh does not have, or one that is not a
+    /// surface.
+    #[error("surface material: {0}")]
+    MaterialGroup(MeshError),
+    /// An element lies in two listed surfaces that give it different materials.
+    #[error(
+        "element {element} lies in the surfaces \"{first}\" and \"{second}\", which give it different materials"
+    )]
+    MaterialOverlap {
+        /// Element tag in the mesh file.
+        element: u64,
+        /// The first listed surface that holds it.
+        first: String,
+        /// The later listed surface that disagrees.
+        second: String,
+    },
+    /// More than 255 surface materials.
+    #[error("at most 255 surface materials (got {0})")]
+    TooManyMaterials(usize),
     /// A time-step safety factor outside (0, 1].
     #[error("alpha = {0} must be in (0, 1] (Δt = α h_min/c_d)")]
     BadAlpha(f64),
@@ -152,6 +171,15 @@ impl GroupBc {
     }
 }
 
+/// The material of the elements of one physical surface ([`UnstructuredDriver::with_materials`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SurfaceMaterial {
+    /// Name of the physical surface (dimension 2).
+    pub group: String,
+    /// Its plane-strain material (E [Pa], ν [-], ρ [kg/m³]).
+    pub material: PlaneStrain,
+}
+
 /// Time step and probes of a run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DriverOptions {
@@ -171,6 +199,52 @@ impl Default for DriverOptions {
             probe_every: 1,
         }
     }
+}
+
+/// The kernel's material table (`material` first, then each surface's) and each element's index
+/// into it (empty without `surfaces`: every element of `material`).
+fn element_materials(
+    mesh: &UnstructuredMesh,
+    material: &PlaneStrain,
+    surfaces: &[SurfaceMaterial],
+) -> Result<(Vec<BulkMaterial>, Vec<u8>), DriverError> {
+    if surfaces.len() > 255 {
+        return Err(DriverError::TooManyMaterials(surfaces.len()));
+    }
+    let bulk = |m: &PlaneStrain| BulkMaterial {
+        d: m.d_matrix(),
+        density: m.density,
+    };
+    let mut table = vec![bulk(material)];
+    table.extend(surfaces.iter().map(|s| bulk(&s.material)));
+    if surfaces.is_empty() {
+        return Ok((table, Vec::new()));
+    }
+    // the listed surface (k + 1) of each element, from the first that holds it
+    let mut index: Vec<Option<u8>> = vec![None; mesh.elements.len()];
+    for (k, s) in surfaces.iter().enumerate() {
+        let group = mesh
+            .group_of_dim(
+                &s.group,
+                2,
+                "a material's group is a physical surface (dimension 2)",
+            )
+            .map_err(DriverError::MaterialGroup)?;
+        for &e in &group.elements {
+            match index[e] {
+                Some(first) if surfaces[first as usize - 1].material != s.material => {
+                    return Err(DriverError::MaterialOverlap {
+                        element: mesh.elements[e].tag,
+                        first: surfaces[first as usize - 1].group.clone(),
+                        second: s.group.clone(),
+                    });
+                }
+                Some(_) => {}
+                None => index[e] = Some(k as u8 + 1),
+            }
+        }
+    }
+    Ok((table, index.iter().map(|k| k.unwrap_or(0)).collect()))
 }
 
 /// One prescribed degree of freedom.
@@ -227,6 +301,21 @@ impl UnstructuredDriver {
         bcs: &[GroupBc],
         options: &DriverOptions,
     ) -> Result<Self, DriverError> {
+        Self::with_materials(mesh, material, &[], bcs, options)
+    }
+
+    /// As [`Self::new`], with the elements of each physical surface of `surfaces` of that
+    /// surface's material and every other element of `material`. Masses and forces then use each
+    /// element's own material, and the step is Δt = α min_e h_e/c_d,e, each element with its own
+    /// length and its own material's P-wave speed ([`UnstructuredBulk::min_transit_time`]). An
+    /// element in two listed surfaces must get the same material from both.
+    pub fn with_materials(
+        mesh: &UnstructuredMesh,
+        material: &PlaneStrain,
+        surfaces: &[SurfaceMaterial],
+        bcs: &[GroupBc],
+        options: &DriverOptions,
+    ) -> Result<Self, DriverError> {
         if !(options.alpha > 0.0 && options.alpha <= 1.0) {
             return Err(DriverError::BadAlpha(options.alpha));
         }
@@ -236,7 +325,8 @@ impl UnstructuredDriver {
         if mesh.positions.is_empty() {
             return Err(DriverError::EmptyMesh);
         }
-        let bulk = UnstructuredBulk::new(mesh, &material.d_matrix(), material.density)?;
+        let (table, element_material) = element_materials(mesh, material, surfaces)?;
+        let bulk = UnstructuredBulk::with_materials(mesh, &table, &element_material)?;
         let nn = bulk.num_nodes();
 
         // per node and component, the last group's motion
@@ -272,9 +362,13 @@ impl UnstructuredDriver {
             .iter()
             .map(|p| nearest_node(&mesh.positions, *p))
             .collect();
-        let cd = material.wave_speeds().cd;
+        let dt = if surfaces.is_empty() {
+            bulk.stable_time_step(options.alpha, material.wave_speeds().cd)
+        } else {
+            options.alpha * bulk.min_transit_time()
+        };
         let mut driver = Self {
-            dt: bulk.stable_time_step(options.alpha, cd),
+            dt,
             inv_mass: bulk.masses().iter().map(|m| 1.0 / m).collect(),
             bulk,
             positions: mesh.positions.clone(),
@@ -608,6 +702,50 @@ mod tests {
             message.contains("\"lfet\"") && message.contains("left"),
             "{message}"
         );
+    }
+
+    #[test]
+    fn a_surface_material_weighs_its_elements_and_bad_surfaces_are_errors() {
+        let mesh = rect_tri();
+        let opts = DriverOptions::default();
+        let base = UnstructuredDriver::new(&mesh, &material(), &[], &opts).unwrap();
+        let heavy = PlaneStrain::new(70e6, 0.35, 2.0 * 1230.0);
+        let given = |group: &str, m: PlaneStrain| SurfaceMaterial {
+            group: group.into(),
+            material: m,
+        };
+        // every element in "bulk", twice as dense: masses doubled exactly, Δt × √2 (c_d ∝ 1/√ρ)
+        let drv = UnstructuredDriver::with_materials(&mesh, &material(), &[given("bulk", heavy)], &[], &opts)
+            .unwrap();
+        for (m, m0) in drv.bulk().masses().iter().zip(base.bulk().masses()) {
+            assert_eq!(*m, 2.0 * m0);
+        }
+        assert!((drv.dt() / (2f64.sqrt() * base.dt()) - 1.0).abs() < 1e-14);
+        let err = |surfaces: &[SurfaceMaterial]| {
+            UnstructuredDriver::with_materials(&mesh, &material(), surfaces, &[], &opts).unwrap_err()
+        };
+        assert!(matches!(
+            err(&[given("blk", heavy)]),
+            DriverError::MaterialGroup(MeshError::MissingGroup { group, .. }) if group == "blk"
+        ));
+        assert!(matches!(
+            err(&[given("left", heavy)]),
+            DriverError::MaterialGroup(MeshError::WrongDimension { group, .. }) if group == "left"
+        ));
+        let overlap = err(&[given("bulk", heavy), given("bulk", material())]);
+        assert!(
+            matches!(&overlap, DriverError::MaterialOverlap { first, second, .. } if first == "bulk" && second == "bulk"),
+            "{overlap}"
+        );
+        // the same material twice is no conflict
+        UnstructuredDriver::with_materials(
+            &mesh,
+            &material(),
+            &[given("bulk", heavy), given("bulk", heavy)],
+            &[],
+            &opts,
+        )
+        .unwrap();
     }
 
     #[test]

@@ -15,6 +15,10 @@
 //! 3. with the joint a cohesive interface, a bar pulled slowly breaks there when the uniform
 //!    σ_xx = u_end/(L₁/M₁ + L₂/M₂) (M = λ + 2G of each part) reaches σ_c, the insertion check
 //!    reading each side's stress with its own material; the energy audit of the run closes.
+//! 4. the bulk-only driver (`fem::solver::unstructured`, a Rust API without a scene) with the
+//!    stiff surface's material given (`UnstructuredDriver::with_materials`): the left end moved
+//!    at a velocity that rises smoothly to v₀ sends the same P wave, crossing the joint with the
+//!    same T and R, and its step is α min_e h_e/c_d,e.
 
 use fem::nalgebra::Vector2;
 use validation::{repo_root, scene_text, with_overrides};
@@ -89,12 +93,17 @@ fn mean(v: &[(f64, f64)], from: f64, to: f64) -> f64 {
 #[test]
 fn a_p_wave_crosses_the_joint_by_the_impedance_formulas() {
     let out = fem::run(&scene(&scene_text("tiny-fem-bimaterial"))).unwrap();
+    let p: Vec<(f64, Vec<(f64, f64)>)> = (0..4).map(|k| probe(&out, k)).collect();
+    assert_impedance_formulas(&p, PUSH / (SOFT.2 * p_wave(SOFT).1));
+}
+
+/// Claim 1 on the probes `p` ((x [m], (t [s], v_x [m/s]) samples) of the scene's four points)
+/// of a wave whose incident particle velocity is `v_push` [m/s].
+fn assert_impedance_formulas(p: &[(f64, Vec<(f64, f64)>)], v_push: f64) {
     let ((_, c1), (_, c2)) = (p_wave(SOFT), p_wave(STIFF));
     let (z1, z2) = (SOFT.2 * c1, STIFF.2 * c2);
     let (t_expect, r_expect) = (2.0 * z1 / (z1 + z2), (z2 - z1) / (z1 + z2));
-    let v_push = PUSH / z1;
     // probes 0, 1 in the soft part, 2, 3 in the stiff part
-    let p: Vec<(f64, Vec<(f64, f64)>)> = (0..4).map(|k| probe(&out, k)).collect();
     assert!(p[1].0 < JOINT_X && p[2].0 > JOINT_X);
     let half = |k: usize, level: f64| crossing(&p[k].1, 0.5 * level);
     let (h0, h1) = (half(0, v_push), half(1, v_push));
@@ -129,6 +138,67 @@ fn a_p_wave_crosses_the_joint_by_the_impedance_formulas() {
     assert!((stiff_transit / stiff_expect - 1.0).abs() < TOL_TRANSIT_REL);
 }
 
+/// The left end's x motion of claim 4: v = v₀ S(t/τ) with the quintic smoothstep
+/// S(s) = s³(10 − 15s + 6s²), then v₀; u = v₀τ(2.5s⁴ − 3s⁵ + s⁶), then v₀(t − τ/2)
+/// ([u [m], v [m/s]] at t [s]).
+fn smooth_start(v0: f64, tau: f64) -> impl Fn(f64) -> [f64; 2] {
+    move |t: f64| {
+        if t >= tau {
+            return [v0 * (t - 0.5 * tau), v0];
+        }
+        let s = (t / tau).max(0.0);
+        [
+            v0 * tau * s.powi(4) * (2.5 - 3.0 * s + s * s),
+            v0 * s.powi(3) * (10.0 - 15.0 * s + 6.0 * s * s),
+        ]
+    }
+}
+
+#[test]
+fn the_bulk_only_driver_with_two_materials_sends_the_wave_across_the_joint_alike() {
+    use fem::solver::unstructured::{
+        Axis, DriverOptions, GroupBc, Prescribed, SurfaceMaterial, UnstructuredDriver,
+    };
+    let mesh = fem::gmsh::UnstructuredMesh::read(&repo_root().join("meshes/bimaterial.msh")).unwrap();
+    let material = |(e, nu, rho): (f64, f64, f64)| fem::law::elastic::PlaneStrain::new(e, nu, rho);
+    let stiff = [SurfaceMaterial {
+        group: "stiff".into(),
+        material: material(STIFF),
+    }];
+    // the push of the scene's 0.1 MPa on the soft part: v₀ = p/Z₁, reached over 0.2 ms
+    let (_, c1) = p_wave(SOFT);
+    let v0 = PUSH / (SOFT.2 * c1);
+    let bcs = [
+        GroupBc::prescribed(
+            "left",
+            Axis::X,
+            Prescribed::Function(std::sync::Arc::new(smooth_start(v0, 2e-4))),
+        ),
+        GroupBc::roller("top", Axis::Y),
+        GroupBc::roller("bottom", Axis::Y),
+    ];
+    let points = [[0.25, 0.03], [0.75, 0.03], [1.3, 0.03], [2.05, 0.03]];
+    let options = DriverOptions {
+        alpha: 0.5,
+        probes: points.iter().map(|p| Vector2::new(p[0], p[1])).collect(),
+        probe_every: 1,
+    };
+    let mut driver =
+        UnstructuredDriver::with_materials(&mesh, &material(SOFT), &stiff, &bcs, &options).unwrap();
+    // claim 2: the stiff part's larger elements set the step, as in the scene
+    let expect = 0.5 * min_transit(&mesh);
+    println!("Δt {:.6e} s (α min h_e/c_d,e {expect:.6e} s)", driver.dt());
+    assert!((driver.dt() / expect - 1.0).abs() < TOL_STEP_REL);
+    driver.run_until(7e-3).unwrap();
+    let p: Vec<(f64, Vec<(f64, f64)>)> = (0..4)
+        .map(|k| {
+            let rows: Vec<_> = driver.records().iter().filter(|r| r.probe == k).collect();
+            (rows[0].x, rows.iter().map(|r| (r.t, r.vx)).collect())
+        })
+        .collect();
+    assert_impedance_formulas(&p, v0);
+}
+
 /// h_e = A/ℓ_max of a quadrangle (shoelace area over the longest edge) [m].
 fn quad_length(c: &[Vector2<f64>]) -> f64 {
     let n = c.len();
@@ -137,25 +207,35 @@ fn quad_length(c: &[Vector2<f64>]) -> f64 {
     area / longest
 }
 
+/// h_e [m] of element e of `mesh` ([`quad_length`]).
+fn element_length(mesh: &fem::gmsh::UnstructuredMesh, e: usize) -> f64 {
+    let corners: Vec<Vector2<f64>> = mesh.elements[e]
+        .nodes
+        .iter()
+        .map(|&n| mesh.positions[n])
+        .collect();
+    quad_length(&corners)
+}
+
+/// min_e h_e/c_d,e [s] over the bar's elements, each with its own part's c_d.
+fn min_transit(mesh: &fem::gmsh::UnstructuredMesh) -> f64 {
+    let ((_, c1), (_, c2)) = (p_wave(SOFT), p_wave(STIFF));
+    [("soft", c1), ("stiff", c2)]
+        .iter()
+        .flat_map(|&(name, c)| mesh.groups[name].elements.iter().map(move |&e| (e, c)))
+        .map(|(e, c)| element_length(mesh, e) / c)
+        .fold(f64::INFINITY, f64::min)
+}
+
 #[test]
 fn the_stable_step_is_the_smallest_of_each_elements_own() {
     let s = scene(&scene_text("tiny-fem-bimaterial"));
     let mesh = fem::gmsh::UnstructuredMesh::read(&repo_root().join("meshes/bimaterial.msh")).unwrap();
     let ((_, c1), (_, c2)) = (p_wave(SOFT), p_wave(STIFF));
-    let mut transit = f64::INFINITY;
-    let mut h_min = f64::INFINITY;
-    for (name, c) in [("soft", c1), ("stiff", c2)] {
-        for &e in &mesh.groups[name].elements {
-            let corners: Vec<Vector2<f64>> = mesh.elements[e]
-                .nodes
-                .iter()
-                .map(|&n| mesh.positions[n])
-                .collect();
-            let h = quad_length(&corners);
-            transit = transit.min(h / c);
-            h_min = h_min.min(h);
-        }
-    }
+    let transit = min_transit(&mesh);
+    let h_min = (0..mesh.elements.len())
+        .map(|e| element_length(&mesh, e))
+        .fold(f64::INFINITY, f64::min);
     // no penalty (no interface): Δt = α min_e h_e/c_d,e with α = time_step_safety = 0.5
     let expect = 0.5 * transit;
     let got = s.time_step();
