@@ -75,9 +75,39 @@ fn the_built_in_grid_written_to_msh_runs_to_the_same_tips() {
         }
     }
     assert!(worst <= 1e-12, "largest tip difference {worst} of the width");
-    // energies: the round-off differences grow through contact and insertion (measured 1.8e-7
-    // of W_ext at the end); 1e-6 allows 5× that, and a mass, stiffness or boundary term that one
-    // path got wrong would show at the percent level
+    // energies. Until the first facet is inserted both runs are the same linear dynamics, and they
+    // agree to round-off (measured ≤ 1e-15 of the final W_ext; 1e-12 allows a thousand times
+    // that, and a mass, stiffness or boundary term that one path got wrong would show at the
+    // percent level). After it, a facet whose traction crosses σ_c within round-off may be
+    // inserted one step apart on the two paths, and each such event moves the energies by about
+    // 1e-6 of W_ext (measured at the end: 1.1e-6 for W_ext, with the edge-form bulk kernel; 1.8e-7
+    // with the element-form kernel before it); 1e-5 bounds those events, still three orders below
+    // a wrong term.
+    let first_insertion = a
+        .arrivals
+        .iter()
+        .map(|r| r.insertion_time)
+        .fold(f64::INFINITY, f64::min);
+    let w_end = a.energy.last().unwrap().boundary_work;
+    let mut compared = 0;
+    for (p, q) in a.energy.iter().zip(&b.energy) {
+        if p.t >= first_insertion {
+            break;
+        }
+        compared += 1;
+        for (x, y, what) in [
+            (p.boundary_work, q.boundary_work, "W_ext"),
+            (p.strain, q.strain, "strain energy"),
+            (p.kinetic, q.kinetic, "kinetic energy"),
+        ] {
+            assert!(
+                (x - y).abs() <= 1e-12 * w_end,
+                "t = {} s, {what}: {x} vs {y}",
+                p.t
+            );
+        }
+    }
+    assert!(compared > 5, "only {compared} records before the first insertion");
     let (ea, eb) = (a.energy.last().unwrap(), b.energy.last().unwrap());
     for (x, y, what) in [
         (ea.boundary_work, eb.boundary_work, "W_ext"),
@@ -88,7 +118,7 @@ fn the_built_in_grid_written_to_msh_runs_to_the_same_tips() {
             "cohesive dissipation",
         ),
     ] {
-        assert!((x - y).abs() <= 1e-6 * ea.boundary_work, "{what}: {x} vs {y}");
+        assert!((x - y).abs() <= 1e-5 * w_end, "{what}: {x} vs {y}");
     }
 }
 

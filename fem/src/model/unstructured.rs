@@ -3,50 +3,44 @@
 //! rayon evaluation of the internal forces: the bulk of a scene on a Gmsh mesh (docs/meshes.md).
 //!
 //! Elements (plane strain, thickness 1 m, so forces are per metre of thickness):
-//! - **T3**, the constant-strain triangle: f_e = A t Bᵀ D B u_e with t = 1 m and the constant
+//! - **T3**, the constant-strain triangle: K_e = A t Bᵀ D B with t = 1 m and the constant
 //!   B = 1/(2A) [[b₀, 0, b₁, 0, b₂, 0], [0, c₀, 0, c₁, 0, c₂], [c₀, b₀, c₁, b₁, c₂, b₂]],
 //!   b_i = y_j − y_k, c_i = x_k − x_j for (i, j, k) cyclic (Zienkiewicz, Taylor & Zhu, *The Finite
 //!   Element Method: Its Basis and Fundamentals*, 7th ed., §6.2). Lumped mass ρA/3 per node (the
 //!   row sum of the consistent mass).
-//! - **Q4**, the bilinear quadrangle with 2×2 Gauss points: f_e = Σ_q B_qᵀ D B_q u_e det J_q, the
-//!   K_e u_e of `model::bulk::stiffness`, and `model::bulk::lumped_mass`, the structured grid's
-//!   element (docs/fem-model.md §1).
+//! - **Q4**, the bilinear quadrangle with 2×2 Gauss points: K_e = Σ_q B_qᵀ D B_q det J_q
+//!   (`model::bulk::stiffness`) and `model::bulk::lumped_mass`, the structured grid's element
+//!   (docs/fem-model.md §1).
 //!
-//! Storage: no element matrix is stored. The kernel keeps the node positions (16 B per node), the
-//! D of each material (one unless `[fem.mesh.materials]` gives more), the connectivity (12 B per T3, 16 B per Q4) and, per node, one 2-byte slot per
-//! adjacent element. Each evaluation recomputes the element forces f_e = Bᵀσ from the positions,
-//! as explicit codes do (Belytschko, Liu & Moran, *Nonlinear Finite Elements for Continua and
-//! Structures*, ch. 4: internal nodal forces f_e = ∫ Bᵀσ dΩ from ε = B u_e and σ = D ε): about
-//! 60 flops per T3 and 250 per Q4, vectorised over 8 elements at a time, where streaming a K_e
-//! (288 B per T3, 512 B per Q4) from memory made the old kernel bandwidth-bound. For the Q4 the
-//! Jacobians come from the edge vectors of the element, as in [`crate::model::mapped`].
+//! Storage: the material is linear and the strains small, so the assembled stiffness K is
+//! constant. The kernel stores it by **edges**: one 2×2 block K_ab per pair of nodes a < b that
+//! share an element (the edges of a T3, the edges and diagonals of a Q4), summed over those
+//! elements with each element's own D, in a fixed order. A rigid translation produces no force,
+//! so each block row of K sums to zero and K_aa = −Σ_b K_ab; hence
+//! (K u)_a = Σ_b K_ab (u_b − u_a), and one edge serves both ends: with d = u_b − u_a,
+//! f_a −= K_ab d and f_b += K_abᵀ d (K_ba = K_abᵀ by symmetry). This is the edge-based
+//! formulation of explicit unstructured solvers (Löhner, *Applied Computational Fluid Dynamics
+//! Techniques*, 2nd ed., §4.9): about 24 flops and 36 bytes per edge, 3 edges per node on a
+//! triangle mesh and 4 on a quadrangle mesh, against a stored K_e (288 B per T3, 512 B per Q4) or
+//! the element forces recomputed from the node positions (≈ 60 flops per T3, 250 per Q4, with
+//! their gathers and scatters). A rigid translation gives exactly zero force.
 //!
-//! The nodes are cut, at build time, into tiles of consecutive nodes. Each tile lists the
-//! elements adjacent to its nodes (those on a tile's edge are listed by both neighbours and
-//! computed twice), computes their forces into a buffer on the stack (256 KiB: it stays in the
-//! core's L2), and every node then sums its elements' forces from that buffer through its slots,
-//! in a fixed order (elements sorted by their material, then their lowest node, then mesh index).
-//! Each material's elements run in batches of their own with that material's D, so the batch
-//! code is the one-material code whatever the number of materials. Tiles run in
-//! parallel and write disjoint node ranges, so the result is the same to the bit for any number of
-//! threads, and the element passes use the same operations with or without AVX-512.
+//! The nodes are cut, at build time, into tiles of consecutive nodes. A tile runs its nodes in
+//! order: each node first sums its edges from nodes of earlier tiles (recomputed there, as the
+//! other tile computes them too), then runs its own edges (b > a), adding to a and, if b is in the
+//! tile, to b. Every node's force is therefore summed in a fixed order set by the mesh and the
+//! tiles, not by the threads; tiles run in parallel and write disjoint node ranges, so the result
+//! is the same to the bit for any number of threads.
 
 use crate::gmsh::{ElementKind, UnstructuredMesh};
 use crate::model::bulk;
 use nalgebra::Vector2;
 use thiserror::Error;
 
-/// Elements per vector batch (structure of arrays, one lane per element).
-const L: usize = 8;
-
-/// f64 values of a tile's element-force buffer (256 KiB on the stack; must fit `u16` offsets).
-const SCRATCH: usize = 32 * 1024;
-
-/// Nodes per tile at least (unless the buffer is full first): a tile's work must dwarf the cost
-/// of a rayon task.
+/// Nodes per tile at least: a tile's work must dwarf the cost of a rayon task.
 const MIN_TILE_NODES: usize = 256;
 
-/// Tiles per mesh aimed at, so that 2 threads balance; the buffer may force more.
+/// Tiles per mesh aimed at, so that 2 threads balance.
 const TARGET_TILES: usize = 16;
 
 /// A mesh the unstructured kernel cannot be built on.
@@ -68,21 +62,9 @@ pub enum UnstructuredError {
     /// No material, more than 256, or an element material index out of range or missing.
     #[error("every element needs a material index into 1 to 256 materials")]
     BadMaterials,
-    /// More nodes or element entries than the 32-bit indices of the kernel hold, or a node with
-    /// more elements than one tile's buffer holds.
+    /// More nodes or edges than the 32-bit indices of the kernel hold.
     #[error("the mesh is too large for the kernel's 32-bit indices")]
     TooLarge,
-}
-
-/// A range of consecutive nodes and the elements adjacent to them.
-#[derive(Debug, Clone, Copy)]
-struct Tile {
-    /// First node and one past the last.
-    nodes: [u32; 2],
-    /// Range of the tile's Q4 in `UnstructuredBulk::tile_q4`.
-    q4: [u32; 2],
-    /// Range of the tile's T3 in `UnstructuredBulk::tile_t3`.
-    t3: [u32; 2],
 }
 
 /// The elastic constants of one material of the kernel.
@@ -104,29 +86,21 @@ impl BulkMaterial {
 /// The bulk of an unstructured T3/Q4 mesh, ready for force evaluations.
 #[derive(Debug, Clone)]
 pub struct UnstructuredBulk {
-    /// Node positions (x, y) [m].
-    pos: Vec<[f64; 2]>,
-    /// Plane-strain Voigt matrix D [Pa] of each material (at most 256).
-    d: Vec<[[f64; 3]; 3]>,
-    /// Node indices of each Q4, sorted by material, then lowest node, then mesh index.
-    q4: Vec<[u32; 4]>,
-    /// Node indices of each T3, sorted as the Q4.
-    t3: Vec<[u32; 3]>,
-    /// The Q4 of material m are `q4[q4_bound[m]..q4_bound[m + 1]]` (one entry per material, + 1).
-    q4_bound: Vec<u32>,
-    /// The T3 of material m are `t3[t3_bound[m]..t3_bound[m + 1]]`.
-    t3_bound: Vec<u32>,
-    /// The tiles, covering the nodes in order.
-    tiles: Vec<Tile>,
-    /// Each tile's Q4 (indices into `q4`), ascending.
-    tile_q4: Vec<u32>,
-    /// Each tile's T3 (indices into `t3`), ascending.
-    tile_t3: Vec<u32>,
-    /// CSR offsets into `slots` per node (length: nodes + 1).
-    adj_start: Vec<u32>,
-    /// Per node and adjacent element (in the fixed summation order): the offset, in its tile's
-    /// buffer, of the x component of that element's force on the node (y is `L` further).
-    slots: Vec<u16>,
+    /// Per node a, its edges (a, b) with b > a: `edge_start[a]..edge_start[a + 1]` into `other`
+    /// and `blocks` (length: nodes + 1).
+    edge_start: Vec<u32>,
+    /// The higher node b of each edge, ascending per node.
+    other: Vec<u32>,
+    /// K_ab of each edge [N/m per m of thickness]: the 2×2 block of the assembled stiffness at row
+    /// a, column b, as [xx, xy, yx, yy].
+    blocks: Vec<[f64; 4]>,
+    /// The tiles: node ranges [first, end), covering the nodes in order.
+    tiles: Vec<[u32; 2]>,
+    /// Per node b, its edges from nodes of earlier tiles: `in_start[b]..in_start[b + 1]` into
+    /// `in_edge` (length: nodes + 1).
+    in_start: Vec<u32>,
+    /// Those edges as (edge index, lower node a), by ascending a.
+    in_edge: Vec<[u32; 2]>,
     /// Lumped nodal masses [kg/m].
     mass: Vec<f64>,
     /// Smallest element length of the stable step [m] (see [`UnstructuredBulk::min_length`]).
@@ -134,27 +108,8 @@ pub struct UnstructuredBulk {
     /// Smallest transit time h_e/c_d,e over the elements [s] (see
     /// [`UnstructuredBulk::min_transit_time`]).
     min_transit: f64,
-    /// Tiles one rayon task runs in a row (sharing one zeroed buffer), about 1/8 of the tiles.
+    /// Tiles one rayon task runs in a row, about 1/8 of the tiles.
     tiles_per_task: usize,
-    /// The CPU has AVX-512F (the element passes run in 512-bit registers).
-    avx512: bool,
-}
-
-/// Buffer values of `nq` Q4 and `nt` T3 (whole batches of L, 2 components per node).
-fn buffer_len(nq: usize, nt: usize) -> usize {
-    nq.div_ceil(L) * L * 8 + nt.div_ceil(L) * L * 6
-}
-
-/// The most buffer values `nq` Q4 and `nt` T3 of `materials` materials take: each material's
-/// elements start a batch of their own, so each material after the first may add a partial batch
-/// of each kind.
-fn padded_len(nq: usize, nt: usize, materials: usize) -> usize {
-    buffer_len(nq, nt) + (materials - 1) * L * (8 + 6)
-}
-
-/// The material m whose range `bound[m]..bound[m + 1]` holds element `i`.
-fn material_in(bound: &[u32], i: u32) -> usize {
-    bound.partition_point(|&b| b <= i) - 1
 }
 
 impl UnstructuredBulk {
@@ -166,7 +121,7 @@ impl UnstructuredBulk {
 
     /// Builds the kernel on `mesh` with several materials: element e (in the mesh's order) is of
     /// `materials[element_material[e]]`; an empty `element_material` puts every element in
-    /// `materials[0]`. Masses, forces and the stable step then use each element's own material.
+    /// `materials[0]`. Masses, stiffness and the stable step then use each element's own material.
     pub fn with_materials(
         mesh: &UnstructuredMesh,
         materials: &[BulkMaterial],
@@ -188,43 +143,47 @@ impl UnstructuredBulk {
             return Err(UnstructuredError::BadMaterials);
         }
         let nn = mesh.positions.len();
-        let total: usize = mesh.elements.iter().map(|e| e.nodes.len()).sum();
-        if nn >= u32::MAX as usize || total >= u32::MAX as usize {
+        if nn >= u32::MAX as usize {
             return Err(UnstructuredError::TooLarge);
         }
         let x = &mesh.positions;
 
-        // validity and masses
+        // validity, masses and the element stiffnesses' blocks (a, b, K_ab) for a < b, in the
+        // mesh's element order
         let mut mass = vec![0.0; nn];
+        let mut entries: Vec<(u32, u32, [f64; 4])> = Vec::new();
         for (e, el) in mesh.elements.iter().enumerate() {
-            let density = materials[material_of(e)].density;
+            let material = &materials[material_of(e)];
             let inverted = |det_j: f64| UnstructuredError::InvertedElement {
                 element: el.tag,
                 det_j,
             };
-            let m = match el.kind {
+            let (m, k): (Vec<f64>, Vec<Vec<f64>>) = match el.kind {
                 ElementKind::T3 => {
                     let c = [x[el.nodes[0]], x[el.nodes[1]], x[el.nodes[2]]];
+                    let k = cst_stiffness(&c, &material.d).map_err(inverted)?;
                     let two_a = (c[1] - c[0]).perp(&(c[2] - c[0]));
-                    if two_a <= 0.0 || !two_a.is_finite() {
-                        return Err(inverted(two_a));
-                    }
-                    vec![density * (0.5 * two_a) / 3.0; 3]
+                    let m = vec![material.density * (0.5 * two_a) / 3.0; 3];
+                    (m, k.iter().map(|r| r.to_vec()).collect())
                 }
                 ElementKind::Q4 => {
                     let c = [x[el.nodes[0]], x[el.nodes[1]], x[el.nodes[2]], x[el.nodes[3]]];
-                    let g = 1.0 / 3f64.sqrt();
-                    for &(s, t) in &bulk::GAUSS_SIGNS {
-                        let (_, det) = bulk::shape_gradients(&c, s * g, t * g);
-                        if det <= 0.0 || !det.is_finite() {
-                            return Err(inverted(det));
-                        }
-                    }
-                    bulk::lumped_mass(&c, density).to_vec()
+                    let k = bulk::stiffness(&c, &material.d).map_err(inverted)?;
+                    let m = bulk::lumped_mass(&c, material.density).to_vec();
+                    (m, k.iter().map(|r| r.to_vec()).collect())
                 }
             };
             for (&a, ma) in el.nodes.iter().zip(m) {
                 mass[a] += ma;
+            }
+            for (i, &a) in el.nodes.iter().enumerate() {
+                for (j, &b) in el.nodes.iter().enumerate() {
+                    if a < b {
+                        let (r, c) = (2 * i, 2 * j);
+                        let block = [k[r][c], k[r][c + 1], k[r + 1][c], k[r + 1][c + 1]];
+                        entries.push((a as u32, b as u32, block));
+                    }
+                }
             }
         }
         let h_min = min_element_length(mesh);
@@ -232,150 +191,68 @@ impl UnstructuredBulk {
             .map(|e| element_length(mesh, e) / materials[material_of(e)].cd())
             .fold(f64::INFINITY, f64::min);
 
-        // the kernel's element order: by material (each material's elements run in batches of
-        // their own, with one D), then lowest node, then mesh index (elements that share nodes
-        // end up close together, whatever order the mesh file has them in)
-        let mut order: Vec<usize> = (0..mesh.elements.len()).collect();
-        order.sort_by_key(|&e| (material_of(e), mesh.elements[e].nodes.iter().min().copied(), e));
-        let mut q4 = Vec::new();
-        let mut t3 = Vec::new();
-        let nm = materials.len();
-        let (mut q4_bound, mut t3_bound) = (vec![0u32; nm + 1], vec![0u32; nm + 1]);
-        // node → (Q4?, index in q4 or t3, local node) in CSR form, in the kernel's element order
-        let mut adj_start = vec![0u32; nn + 1];
-        for &a in mesh.elements.iter().flat_map(|el| &el.nodes) {
-            adj_start[a + 1] += 1;
+        // the edges: blocks of the same pair summed in the mesh's element order (a stable sort)
+        entries.sort_by_key(|&(a, b, _)| (a, b));
+        let mut edge_start = vec![0u32; nn + 1];
+        let (mut other, mut blocks) = (Vec::<u32>::new(), Vec::<[f64; 4]>::new());
+        for (i, &(a, b, k)) in entries.iter().enumerate() {
+            if i > 0 && (entries[i - 1].0, entries[i - 1].1) == (a, b) {
+                let sum = blocks.last_mut().expect("a previous entry");
+                for (s, v) in sum.iter_mut().zip(k) {
+                    *s += v;
+                }
+            } else {
+                other.push(b);
+                blocks.push(k);
+                edge_start[a as usize + 1] += 1;
+            }
+        }
+        drop(entries);
+        if other.len() >= u32::MAX as usize {
+            return Err(UnstructuredError::TooLarge);
         }
         for a in 0..nn {
-            adj_start[a + 1] += adj_start[a];
-        }
-        let mut fill: Vec<u32> = adj_start[..nn].to_vec();
-        let mut adj = vec![(false, 0u32, 0u8); total];
-        for &e in &order {
-            let el = &mesh.elements[e];
-            let (is_q4, index) = match el.kind {
-                ElementKind::Q4 => {
-                    q4.push([0, 1, 2, 3].map(|k| el.nodes[k] as u32));
-                    q4_bound[material_of(e) + 1] += 1;
-                    (true, q4.len() - 1)
-                }
-                ElementKind::T3 => {
-                    t3.push([0, 1, 2].map(|k| el.nodes[k] as u32));
-                    t3_bound[material_of(e) + 1] += 1;
-                    (false, t3.len() - 1)
-                }
-            };
-            for (la, &a) in el.nodes.iter().enumerate() {
-                adj[fill[a] as usize] = (is_q4, index as u32, la as u8);
-                fill[a] += 1;
-            }
-        }
-        for m in 0..nm {
-            q4_bound[m + 1] += q4_bound[m];
-            t3_bound[m + 1] += t3_bound[m];
-        }
-        let adj_of = |a: usize| &adj[adj_start[a] as usize..adj_start[a + 1] as usize];
-
-        // tiles: consecutive nodes while their elements fit the buffer
-        let max_nodes = nn.div_ceil(TARGET_TILES).max(MIN_TILE_NODES);
-        let mut seen_q4 = vec![u32::MAX; q4.len()];
-        let mut seen_t3 = vec![u32::MAX; t3.len()];
-        let (mut tiles, mut tile_q4, mut tile_t3) = (Vec::new(), Vec::new(), Vec::new());
-        let mut a = 0;
-        while a < nn {
-            let id = tiles.len() as u32;
-            let (first, q_first, t_first) = (a, tile_q4.len(), tile_t3.len());
-            while a < nn && a - first < max_nodes {
-                let fresh = |is_q4: bool| {
-                    adj_of(a)
-                        .iter()
-                        .filter(|&&(q, i, _)| {
-                            q == is_q4
-                                && if q {
-                                    seen_q4[i as usize]
-                                } else {
-                                    seen_t3[i as usize]
-                                } != id
-                        })
-                        .count()
-                };
-                let (nq, nt) = (
-                    tile_q4.len() - q_first + fresh(true),
-                    tile_t3.len() - t_first + fresh(false),
-                );
-                if padded_len(nq, nt, nm) > SCRATCH {
-                    if a == first {
-                        return Err(UnstructuredError::TooLarge);
-                    }
-                    break;
-                }
-                for &(is_q4, i, _) in adj_of(a) {
-                    let (seen, list) = if is_q4 {
-                        (&mut seen_q4[i as usize], &mut tile_q4)
-                    } else {
-                        (&mut seen_t3[i as usize], &mut tile_t3)
-                    };
-                    if *seen != id {
-                        *seen = id;
-                        list.push(i);
-                    }
-                }
-                a += 1;
-            }
-            tile_q4[q_first..].sort_unstable();
-            tile_t3[t_first..].sort_unstable();
-            tiles.push(Tile {
-                nodes: [first as u32, a as u32],
-                q4: [q_first as u32, tile_q4.len() as u32],
-                t3: [t_first as u32, tile_t3.len() as u32],
-            });
+            edge_start[a + 1] += edge_start[a];
         }
 
-        // each node's slots in its tile's buffer (Q4 batches first, then T3 batches; in a batch
-        // of L elements, node k's x components at 2kL + lane, its y components L further)
-        let mut slot_q4 = vec![0usize; q4.len()];
-        let mut slot_t3 = vec![0usize; t3.len()];
-        let mut slots = Vec::with_capacity(total);
-        for t in &tiles {
-            let (lq, lt) = (
-                &tile_q4[t.q4[0] as usize..t.q4[1] as usize],
-                &tile_t3[t.t3[0] as usize..t.t3[1] as usize],
-            );
-            let t3_base = padded_slots(lq, &q4_bound, 8, 0, &mut slot_q4);
-            padded_slots(lt, &t3_bound, 6, t3_base, &mut slot_t3);
-            for a in t.nodes[0] as usize..t.nodes[1] as usize {
-                for &(is_q4, i, la) in adj_of(a) {
-                    let base = if is_q4 {
-                        slot_q4[i as usize]
-                    } else {
-                        slot_t3[i as usize]
-                    };
-                    let slot = base + 2 * L * la as usize;
-                    // the gather masks its indices instead of checking them: they must be in range
-                    debug_assert!(slot + L < SCRATCH, "slot {slot} outside the tile buffer");
-                    slots.push(slot as u16);
+        // tiles of consecutive nodes, and each node's edges from earlier tiles
+        let per_tile = nn.div_ceil(TARGET_TILES).max(MIN_TILE_NODES);
+        let tiles: Vec<[u32; 2]> = (0..nn)
+            .step_by(per_tile)
+            .map(|first| [first as u32, (first + per_tile).min(nn) as u32])
+            .collect();
+        let tile_of = |n: usize| n / per_tile;
+        let mut incoming: Vec<(u32, u32, u32)> = Vec::new(); // (b, a, edge)
+        for a in 0..nn {
+            let edges = edge_start[a] as usize..edge_start[a + 1] as usize;
+            for (k, &b) in edges.clone().zip(&other[edges]) {
+                if tile_of(b as usize) != tile_of(a) {
+                    incoming.push((b, a as u32, k as u32));
                 }
             }
         }
+        incoming.sort_unstable();
+        let mut in_start = vec![0u32; nn + 1];
+        for &(b, _, _) in &incoming {
+            in_start[b as usize + 1] += 1;
+        }
+        for b in 0..nn {
+            in_start[b + 1] += in_start[b];
+        }
+        let in_edge = incoming.iter().map(|&(_, a, k)| [k, a]).collect();
 
         let tiles_per_task = (tiles.len() / 8).max(1);
         Ok(Self {
-            pos: x.iter().map(|p| [p.x, p.y]).collect(),
-            d: materials.iter().map(|m| m.d).collect(),
-            q4,
-            t3,
-            q4_bound,
-            t3_bound,
+            edge_start,
+            other,
+            blocks,
             tiles,
-            tile_q4,
-            tile_t3,
-            adj_start,
-            slots,
+            in_start,
+            in_edge,
             mass,
             h_min,
             min_transit,
             tiles_per_task,
-            avx512: avx512(),
         })
     }
 
@@ -414,41 +291,47 @@ impl UnstructuredBulk {
         self.min_transit
     }
 
-    /// Bytes of the kernel's arrays (positions, connectivity, tiles and slots, masses).
+    /// Number of edges (pairs of nodes that share an element).
+    pub fn num_edges(&self) -> usize {
+        self.other.len()
+    }
+
+    /// Bytes of the kernel's arrays (edges and their blocks, tiles, cross-tile lists, masses).
     pub fn memory_bytes(&self) -> usize {
         use std::mem::size_of_val;
-        size_of_val(&self.pos[..])
-            + size_of_val(&self.q4[..])
-            + size_of_val(&self.t3[..])
-            + size_of_val(&self.q4_bound[..])
-            + size_of_val(&self.t3_bound[..])
+        size_of_val(&self.edge_start[..])
+            + size_of_val(&self.other[..])
+            + size_of_val(&self.blocks[..])
             + size_of_val(&self.tiles[..])
-            + size_of_val(&self.tile_q4[..])
-            + size_of_val(&self.tile_t3[..])
-            + size_of_val(&self.adj_start[..])
-            + size_of_val(&self.slots[..])
+            + size_of_val(&self.in_start[..])
+            + size_of_val(&self.in_edge[..])
             + size_of_val(&self.mass[..])
     }
 
-    /// f = −f_int(u) [N/m] for displacements `u` [m] (overwrites `f`): every node gathers
-    /// f_a = −Σ_e f_e[a] over its elements in a fixed order (see the module documentation).
-    /// Parallel over tiles of nodes; each task writes only its own nodes and each node's sum has a
-    /// fixed order, so the result is the same to the bit for any number of threads. Allocates
-    /// nothing.
+    /// f = −f_int(u) = −K u [N/m] for displacements `u` [m] (overwrites `f`), in a fixed order of
+    /// summation per node (see the module documentation). Parallel over tiles of nodes; each task
+    /// writes only its own nodes, so the result is the same to the bit for any number of threads.
+    /// Allocates nothing.
     pub fn internal_forces(&self, u: &[Vector2<f64>], f: &mut [Vector2<f64>]) {
         assert_eq!(u.len(), self.num_nodes(), "one displacement per node");
         assert_eq!(f.len(), self.num_nodes(), "one force per node");
-        self.run(&self.tiles, bytemuck::cast_slice(u), f);
+        self.run(&self.tiles, bytemuck::cast_slice(u), bytemuck::cast_slice_mut(f));
     }
 
     /// The tiles `tiles`, whose nodes are those of `f`, split in halves across rayon tasks.
-    fn run(&self, tiles: &[Tile], u: &[[f64; 2]], f: &mut [Vector2<f64>]) {
+    fn run(&self, tiles: &[[u32; 2]], u: &[[f64; 2]], f: &mut [[f64; 2]]) {
         match tiles {
             [] => {}
-            _ if tiles.len() <= self.tiles_per_task => self.tiles(tiles, u, f),
+            _ if tiles.len() <= self.tiles_per_task => {
+                let first = tiles[0][0];
+                for t in tiles {
+                    let nodes = (t[0] - first) as usize..(t[1] - first) as usize;
+                    self.tile(*t, u, &mut f[nodes]);
+                }
+            }
             _ => {
                 let mid = tiles.len() / 2;
-                let split = (tiles[mid].nodes[0] - tiles[0].nodes[0]) as usize;
+                let split = (tiles[mid][0] - tiles[0][0]) as usize;
                 let (lo, hi) = f.split_at_mut(split);
                 rayon::join(
                     || self.run(&tiles[..mid], u, lo),
@@ -458,321 +341,75 @@ impl UnstructuredBulk {
         }
     }
 
-    /// Consecutive tiles, whose nodes are those of `f`, one after the other with one buffer.
-    fn tiles(&self, tiles: &[Tile], u: &[[f64; 2]], f: &mut [Vector2<f64>]) {
-        let mut buf = [0.0f64; SCRATCH];
-        let first = tiles.first().map_or(0, |t| t.nodes[0]);
-        for t in tiles {
-            let nodes = (t.nodes[0] - first) as usize..(t.nodes[1] - first) as usize;
-            self.tile(t, u, &mut f[nodes], &mut buf);
-        }
-    }
-
-    /// One tile: its element forces into `buf`, then each node's sum.
-    fn tile(&self, t: &Tile, u: &[[f64; 2]], f: &mut [Vector2<f64>], buf: &mut [f64; SCRATCH]) {
-        let q = &self.tile_q4[t.q4[0] as usize..t.q4[1] as usize];
-        let tr = &self.tile_t3[t.t3[0] as usize..t.t3[1] as usize];
-        self.element_forces(q, tr, u, buf);
-        let first = t.nodes[0] as usize;
-        for (i, fa) in f.iter_mut().enumerate() {
-            let a = first + i;
-            let slots = &self.slots[self.adj_start[a] as usize..self.adj_start[a + 1] as usize];
-            let (mut fx, mut fy) = (0.0, 0.0);
-            for &s in slots {
-                // (the masks keep the indices in range without a check: SCRATCH is a power of 2)
-                fx += buf[s as usize % SCRATCH];
-                fy += buf[(s as usize + L) % SCRATCH];
+    /// One tile, nodes [first, end) (those of `f`): the edges from earlier tiles, then its own.
+    fn tile(&self, [first, end]: [u32; 2], u: &[[f64; 2]], f: &mut [[f64; 2]]) {
+        let (first, end) = (first as usize, end as usize);
+        let bl = &self.blocks;
+        for (i, fb) in f.iter_mut().enumerate() {
+            let b = first + i;
+            let ub = u[b];
+            let mut acc = [0.0; 2];
+            for &[k, a] in &self.in_edge[self.in_start[b] as usize..self.in_start[b + 1] as usize] {
+                let (kb, ua) = (bl[k as usize], u[a as usize]);
+                let d = [ub[0] - ua[0], ub[1] - ua[1]];
+                acc[0] += kb[0] * d[0] + kb[2] * d[1];
+                acc[1] += kb[1] * d[0] + kb[3] * d[1];
             }
-            *fa = -Vector2::new(fx, fy);
+            *fb = acc;
         }
-    }
-
-    /// The forces f_e = K_e u_e of the Q4 `q` and the T3 `tr` into `buf` (layout: see
-    /// `slots`), with AVX-512 if the CPU has it (same operations, same bits).
-    fn element_forces(&self, q: &[u32], tr: &[u32], u: &[[f64; 2]], buf: &mut [f64; SCRATCH]) {
-        #[cfg(target_arch = "x86_64")]
-        if self.avx512 {
-            // SAFETY: `avx512` is true only if the CPU reported AVX-512F at run time (`avx512()`).
-            return unsafe { element_forces_avx512(self, q, tr, u, buf) };
-        }
-        element_forces(self, q, tr, u, buf)
-    }
-}
-
-/// The buffer offsets (x component, lane) of the elements `list` of one kind (ascending; `bound`
-/// its materials' ranges, `values` its buffer values per element: 8 for a Q4, 6 for a T3) from
-/// `base` on, each material's run starting a batch of its own, into `slot`; returns the offset
-/// after the last batch.
-fn padded_slots(list: &[u32], bound: &[u32], values: usize, base: usize, slot: &mut [usize]) -> usize {
-    let (mut run_base, mut run_first, mut run_material) = (base, 0, usize::MAX);
-    for (p, &i) in list.iter().enumerate() {
-        let m = material_in(bound, i);
-        if m != run_material {
-            run_base += (p - run_first).div_ceil(L) * L * values;
-            (run_first, run_material) = (p, m);
-        }
-        let r = p - run_first;
-        slot[i as usize] = run_base + (r / L) * values * L + r % L;
-    }
-    run_base + (list.len() - run_first).div_ceil(L) * L * values
-}
-
-/// Whether the element passes may use AVX-512F.
-fn avx512() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::arch::is_x86_feature_detected!("avx512f")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-fn element_forces_avx512(
-    k: &UnstructuredBulk,
-    q: &[u32],
-    tr: &[u32],
-    u: &[[f64; 2]],
-    buf: &mut [f64; SCRATCH],
-) {
-    element_forces(k, q, tr, u, buf)
-}
-
-/// Corner values of a batch: `[a][l][k]` for corner a, lane l, and k = x, y [m], u_x, u_y [m]
-/// (two 16-byte copies per corner; the element loops read them with strided vector loads).
-type Batch<const N: usize> = [[[f64; 4]; L]; N];
-
-/// Portable element passes: batches of L elements in structure-of-arrays form; every lane runs
-/// the same scalar operations (no fused multiply-add: Rust never contracts), so the vector width
-/// does not change a bit. The corner values of the next batch are gathered before the current
-/// one is computed: vector loads of values just stored one lane at a time would stall on store
-/// forwarding.
-#[inline(always)]
-fn element_forces(k: &UnstructuredBulk, q: &[u32], tr: &[u32], u: &[[f64; 2]], buf: &mut [f64; SCRATCH]) {
-    // each material's elements (a run of the ascending list) in batches of their own, with its D
-    // (with one material, one run: the whole list), Q4 first, then T3 (the layout of `slots`)
-    let mut at = 0;
-    let mut rest = q;
-    for (m, d) in k.d.iter().enumerate() {
-        let run;
-        (run, rest) = rest.split_at(rest.partition_point(|&i| i < k.q4_bound[m + 1]));
-        let len = buffer_len(run.len(), 0);
-        batches::<4, Q4Pass>(&k.q4, &k.pos, d, u, run, &mut buf[at..at + len]);
-        at += len;
-    }
-    let mut rest = tr;
-    for (m, d) in k.d.iter().enumerate() {
-        let run;
-        (run, rest) = rest.split_at(rest.partition_point(|&i| i < k.t3_bound[m + 1]));
-        let len = buffer_len(0, run.len());
-        batches::<3, T3Pass>(&k.t3, &k.pos, d, u, run, &mut buf[at..at + len]);
-        at += len;
-    }
-}
-
-/// The force computation of one batch of an element kind with N corners. A trait rather than a
-/// closure: closures are not inlined into the AVX-512 pass, which stops its vectorisation.
-trait BatchPass<const N: usize> {
-    /// Forces of the batch `w` into `out` (2NL values).
-    fn forces(w: &Batch<N>, d: &[[f64; 3]; 3], out: &mut [f64]);
-}
-
-/// Q4 batches ([`q4_batch`]).
-struct Q4Pass;
-/// T3 batches ([`t3_batch`]).
-struct T3Pass;
-
-impl BatchPass<4> for Q4Pass {
-    #[inline(always)]
-    fn forces(w: &Batch<4>, d: &[[f64; 3]; 3], out: &mut [f64]) {
-        q4_batch(w, d, out)
-    }
-}
-
-impl BatchPass<3> for T3Pass {
-    #[inline(always)]
-    fn forces(w: &Batch<3>, d: &[[f64; 3]; 3], out: &mut [f64]) {
-        t3_batch(w, d, out)
-    }
-}
-
-/// One kind's element pass: the elements `list` in batches of L, each batch's forces (2N values
-/// per lane) into the next 2NL values of `out`, the next batch's corners gathered first.
-#[inline(always)]
-fn batches<const N: usize, P: BatchPass<N>>(
-    conn: &[[u32; N]],
-    pos: &[[f64; 2]],
-    d: &[[f64; 3]; 3],
-    u: &[[f64; 2]],
-    list: &[u32],
-    out: &mut [f64],
-) {
-    let mut stage = [[[[0.0; 4]; L]; N]; 2];
-    let (s0, s1) = stage.split_at_mut(1);
-    let (mut cur, mut next) = (&mut s0[0], &mut s1[0]);
-    let mut chunks = list.chunks(L);
-    if let Some(c) = chunks.next() {
-        gather(conn, pos, u, c, cur);
-    }
-    for out in out.chunks_exact_mut(2 * N * L) {
-        if let Some(c) = chunks.next() {
-            gather(conn, pos, u, c, next);
-        }
-        P::forces(cur, d, out);
-        std::mem::swap(&mut cur, &mut next);
-    }
-}
-
-/// The corner positions and displacements of the elements `chunk` (1 to L of them; the last
-/// one fills the lanes left over).
-#[inline(always)]
-fn gather<const N: usize>(
-    conn: &[[u32; N]],
-    pos: &[[f64; 2]],
-    u: &[[f64; 2]],
-    chunk: &[u32],
-    dst: &mut Batch<N>,
-) {
-    for l in 0..L {
-        let nodes = conn[chunk[l.min(chunk.len() - 1)] as usize];
-        for (a, &n) in nodes.iter().enumerate() {
-            let (p, v) = (pos[n as usize], u[n as usize]);
-            dst[a][l] = [p[0], p[1], v[0], v[1]];
+        for a in first..end {
+            let ua = u[a];
+            let mut acc = f[a - first];
+            let edges = self.edge_start[a] as usize..self.edge_start[a + 1] as usize;
+            for (&b, kb) in self.other[edges.clone()].iter().zip(&bl[edges]) {
+                let b = b as usize;
+                let ub = u[b];
+                let d = [ub[0] - ua[0], ub[1] - ua[1]];
+                acc[0] -= kb[0] * d[0] + kb[1] * d[1];
+                acc[1] -= kb[2] * d[0] + kb[3] * d[1];
+                if b < end {
+                    let fb = &mut f[b - first];
+                    fb[0] += kb[0] * d[0] + kb[2] * d[1];
+                    fb[1] += kb[1] * d[0] + kb[3] * d[1];
+                }
+            }
+            f[a - first] = acc;
         }
     }
 }
 
-/// K_e u_e of L constant-strain triangles (corner values `w`, see [`Batch`]) into
-/// out[(2a + c)L + l] [N/m] for corner a, component c, lane l. ε = B u_e, σ = D ε,
-/// f_a = A B_aᵀσ = ½ (b_a σ_xx + c_a σ_xy, c_a σ_yy + b_a σ_xy).
-#[inline(always)]
-fn t3_batch(w: &Batch<3>, d: &[[f64; 3]; 3], out: &mut [f64]) {
-    let out: &mut [f64; 6 * L] = out.try_into().expect("a T3 batch is 6L values");
-    for l in 0..L {
-        let (x0, x1, x2) = (w[0][l][0], w[1][l][0], w[2][l][0]);
-        let (y0, y1, y2) = (w[0][l][1], w[1][l][1], w[2][l][1]);
-        let b = [y1 - y2, y2 - y0, y0 - y1];
-        let c = [x2 - x1, x0 - x2, x1 - x0];
-        let inv = 1.0 / ((x1 - x0) * (y2 - y0) - (y1 - y0) * (x2 - x0));
-        let mut e = [0.0; 3];
-        for a in 0..3 {
-            let (ux, uy) = (w[a][l][2], w[a][l][3]);
-            e[0] += b[a] * ux;
-            e[1] += c[a] * uy;
-            e[2] += c[a] * ux + b[a] * uy;
-        }
-        let e = [e[0] * inv, e[1] * inv, e[2] * inv];
-        let s = [
-            d[0][0] * e[0] + d[0][1] * e[1] + d[0][2] * e[2],
-            d[1][0] * e[0] + d[1][1] * e[1] + d[1][2] * e[2],
-            d[2][0] * e[0] + d[2][1] * e[1] + d[2][2] * e[2],
-        ];
-        for a in 0..3 {
-            out[2 * a * L + l] = 0.5 * (b[a] * s[0] + c[a] * s[2]);
-            out[(2 * a + 1) * L + l] = 0.5 * (c[a] * s[1] + b[a] * s[2]);
+/// The constant-strain triangle's K_e = A t Bᵀ D B (t = 1 m) [N/m per m] with corners `c` [m] and
+/// the Voigt matrix `d` [Pa], DOF order x₀, y₀, x₁, y₁, x₂, y₂; Err(2A) [m²] for a clockwise or
+/// degenerate triangle.
+pub(crate) fn cst_stiffness(c: &[Vector2<f64>; 3], d: &[[f64; 3]; 3]) -> Result<[[f64; 6]; 6], f64> {
+    let two_a = (c[1] - c[0]).perp(&(c[2] - c[0]));
+    if two_a <= 0.0 || !two_a.is_finite() {
+        return Err(two_a);
+    }
+    let mut b = [[0.0; 6]; 3];
+    for i in 0..3 {
+        let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+        // ∂N_i/∂x = b_i/(2A), ∂N_i/∂y = c_i/(2A)
+        let (bi, ci) = ((c[j].y - c[k].y) / two_a, (c[k].x - c[j].x) / two_a);
+        b[0][2 * i] = bi;
+        b[1][2 * i + 1] = ci;
+        b[2][2 * i] = ci;
+        b[2][2 * i + 1] = bi;
+    }
+    let area = 0.5 * two_a;
+    let mut k = [[0.0; 6]; 6];
+    for (i, ki) in k.iter_mut().enumerate() {
+        for (j, kij) in ki.iter_mut().enumerate() {
+            let mut sum = 0.0;
+            for p in 0..3 {
+                for q in 0..3 {
+                    sum += b[p][i] * d[p][q] * b[q][j];
+                }
+            }
+            *kij = area * sum;
         }
     }
-}
-
-/// K_e u_e of L bilinear quadrangles, 2×2 Gauss (layout as [`t3_batch`]). With the edge
-/// differences, 4 ∂v/∂ξ(η) = (v₁ − v₀)(1 − η) + (v₂ − v₃)(1 + η) and
-/// 4 ∂v/∂η(ξ) = (v₃ − v₀)(1 − ξ) + (v₂ − v₁)(1 + ξ) for v = x and v = u give J and ∇_ξ u at each
-/// Gauss point; ∇u = ∇_ξ u J⁻¹, σ = D ε, and det J B_aᵀσ = N_a,ξ P + N_a,η Q with
-/// P = (y_η σ_xx − x_η σ_xy, y_η σ_xy − x_η σ_yy), Q = (x_ξ σ_xy − y_ξ σ_xx, x_ξ σ_yy − y_ξ σ_xy)
-/// (the cofactors of J: no inverse in the force). With N_a,ξ = ¼ξ_a(1 + ηη_a),
-/// N_a,η = ¼η_a(1 + ξξ_a) the Gauss sums collapse to f_a = ¼[ξ_a(ΣP + η_a ΣηP) + η_a(ΣQ + ξ_a ΣξQ)]
-/// (the same structure as `model::mapped::element_forces`).
-#[inline(always)]
-fn q4_batch(w: &Batch<4>, d: &[[f64; 3]; 3], out: &mut [f64]) {
-    let out: &mut [f64; 8 * L] = out.try_into().expect("a Q4 batch is 8L values");
-    let g = 1.0 / 3f64.sqrt();
-    // one element per lane, in a loop the optimiser vectorises (straight-line code, no calls)
-    for l in 0..L {
-        // [k] = x, y, u_x, u_y: 4 ∂/∂ξ at η = −g, +g and 4 ∂/∂η at ξ = −g, +g
-        let dv = [
-            q4_derivatives(w, 0, l, g),
-            q4_derivatives(w, 1, l, g),
-            q4_derivatives(w, 2, l, g),
-            q4_derivatives(w, 3, l, g),
-        ];
-        // Gauss points (ξ, η) = g(−1, −1), g(1, −1), g(1, 1), g(−1, 1): (η index, ξ index) into
-        // the derivative pairs; 1/det J at all four from one division (16 det J = 4h² for an
-        // element of size h: the product of four stays within f64 for 1e-18 m < h < 1e18 m)
-        let gp = [(0, 0), (0, 1), (1, 1), (1, 0)];
-        let det = [
-            q4_det(&dv, gp[0]),
-            q4_det(&dv, gp[1]),
-            q4_det(&dv, gp[2]),
-            q4_det(&dv, gp[3]),
-        ];
-        let (d01, d23) = (det[0] * det[1], det[2] * det[3]);
-        let r = 1.0 / (d01 * d23);
-        let (r01, r23) = (d23 * r, d01 * r);
-        let inv = [det[1] * r01, det[0] * r01, det[3] * r23, det[2] * r23];
-        let (p0, q0) = gauss_point(&dv, gp[0], inv[0], d);
-        let (p1, q1) = gauss_point(&dv, gp[1], inv[1], d);
-        let (p2, q2) = gauss_point(&dv, gp[2], inv[2], d);
-        let (p3, q3) = gauss_point(&dv, gp[3], inv[3], d);
-        // P and Q are 4× the true ones (the derivatives are 4× too): f_a carries 1/16
-        for c in 0..2 {
-            let (p_sum, p_eta) = (
-                (p0[c] + p1[c]) + (p2[c] + p3[c]),
-                (p2[c] + p3[c]) - (p0[c] + p1[c]),
-            );
-            let (q_sum, q_xi) = (
-                (q0[c] + q3[c]) + (q1[c] + q2[c]),
-                (q1[c] + q2[c]) - (q0[c] + q3[c]),
-            );
-            let (pm, pp) = (p_sum - g * p_eta, p_sum + g * p_eta);
-            let (qm, qp) = (q_sum - g * q_xi, q_sum + g * q_xi);
-            out[c * L + l] = -0.0625 * (pm + qm);
-            out[(2 + c) * L + l] = 0.0625 * (pm - qp);
-            out[(4 + c) * L + l] = 0.0625 * (pp + qp);
-            out[(6 + c) * L + l] = 0.0625 * (qm - pp);
-        }
-    }
-}
-
-/// 4 ∂v/∂ξ at η = −g, +g and 4 ∂v/∂η at ξ = −g, +g of corner value `k` (see [`Batch`]) in lane
-/// `l`.
-#[inline(always)]
-fn q4_derivatives(w: &Batch<4>, k: usize, l: usize, g: f64) -> [[f64; 2]; 2] {
-    let (v0, v1, v2, v3) = (w[0][l][k], w[1][l][k], w[2][l][k], w[3][l][k]);
-    let (a, b, c, e) = (v1 - v0, v2 - v3, v3 - v0, v2 - v1);
-    let (sx, dx, se, de) = (a + b, g * (b - a), c + e, g * (e - c));
-    [[sx - dx, sx + dx], [se - de, se + de]]
-}
-
-/// 16 det J = 4x_ξ 4y_η − 4x_η 4y_ξ at Gauss point (η index, ξ index) of [`q4_batch`].
-#[inline(always)]
-fn q4_det(dv: &[[[f64; 2]; 2]; 4], (ie, ix): (usize, usize)) -> f64 {
-    dv[0][0][ie] * dv[1][1][ix] - dv[0][1][ix] * dv[1][0][ie]
-}
-
-/// (4P, 4Q) of [`q4_batch`] at the Gauss point with η index `ie` and ξ index `ix` (0: −g, 1: +g),
-/// from the derivatives `dv` of [`q4_derivatives`] and `inv` = 1/(16 det J) there.
-#[inline(always)]
-fn gauss_point(
-    dv: &[[[f64; 2]; 2]; 4],
-    (ie, ix): (usize, usize),
-    inv: f64,
-    d: &[[f64; 3]; 3],
-) -> ([f64; 2], [f64; 2]) {
-    let (xx, yx, uxx, uyx) = (dv[0][0][ie], dv[1][0][ie], dv[2][0][ie], dv[3][0][ie]);
-    let (xe, ye, uxe, uye) = (dv[0][1][ix], dv[1][1][ix], dv[2][1][ix], dv[3][1][ix]);
-    let e0 = (uxx * ye - uxe * yx) * inv;
-    let e1 = (uye * xx - uyx * xe) * inv;
-    let e2 = (uxe * xx - uxx * xe + uyx * ye - uye * yx) * inv;
-    let s0 = d[0][0] * e0 + d[0][1] * e1 + d[0][2] * e2;
-    let s1 = d[1][0] * e0 + d[1][1] * e1 + d[1][2] * e2;
-    let s2 = d[2][0] * e0 + d[2][1] * e1 + d[2][2] * e2;
-    (
-        [ye * s0 - xe * s2, ye * s2 - xe * s1],
-        [xx * s2 - yx * s0, xx * s1 - yx * s2],
-    )
+    Ok(k)
 }
 
 /// The smallest element length h_min [m] of `mesh` ([`UnstructuredBulk::min_length`]): per
@@ -803,39 +440,6 @@ mod tests {
     use crate::law::elastic::PlaneStrain;
     use crate::mesh::structured::{Grid, GridSpec};
     use std::collections::BTreeMap;
-
-    /// The reference the kernel is checked against: the constant-strain triangle K_e = A t Bᵀ D B (t = 1 m) [N/m per m], DOF order x₀, y₀, x₁, y₁,
-    /// x₂, y₂; Err(2A) [m²] for a clockwise or degenerate triangle.
-    fn cst_stiffness(c: &[Vector2<f64>; 3], d: &[[f64; 3]; 3]) -> Result<[[f64; 6]; 6], f64> {
-        let two_a = (c[1] - c[0]).perp(&(c[2] - c[0]));
-        if two_a <= 0.0 || !two_a.is_finite() {
-            return Err(two_a);
-        }
-        let mut b = [[0.0; 6]; 3];
-        for i in 0..3 {
-            let (j, k) = ((i + 1) % 3, (i + 2) % 3);
-            // ∂N_i/∂x = b_i/(2A), ∂N_i/∂y = c_i/(2A)
-            let (bi, ci) = ((c[j].y - c[k].y) / two_a, (c[k].x - c[j].x) / two_a);
-            b[0][2 * i] = bi;
-            b[1][2 * i + 1] = ci;
-            b[2][2 * i] = ci;
-            b[2][2 * i + 1] = bi;
-        }
-        let area = 0.5 * two_a;
-        let mut k = [[0.0; 6]; 6];
-        for (i, ki) in k.iter_mut().enumerate() {
-            for (j, kij) in ki.iter_mut().enumerate() {
-                let mut sum = 0.0;
-                for p in 0..3 {
-                    for q in 0..3 {
-                        sum += b[p][i] * d[p][q] * b[q][j];
-                    }
-                }
-                *kij = area * sum;
-            }
-        }
-        Ok(k)
-    }
 
     /// The old formulation, as reference: f_a = −Σ_e K_e[a-rows] u_e in mesh element order, with
     /// K_e from `cst_stiffness` and `bulk::stiffness`.
@@ -1173,20 +777,6 @@ mod tests {
         }
     }
 
-    /// The AVX-512 element passes give the bits of the portable ones (the output must not depend
-    /// on the CPU it runs on); on a CPU without AVX-512 both runs take the portable path.
-    #[test]
-    fn vector_paths_agree_bit_for_bit() {
-        let mesh = distorted_mixed(30, 20, false);
-        let mat = material();
-        let mut bulk = UnstructuredBulk::new(&mesh, &mat.d_matrix(), mat.density).unwrap();
-        let u = wobble(bulk.num_nodes());
-        let dispatched = forces(&bulk, &u);
-        bulk.avx512 = false;
-        let portable = forces(&bulk, &u);
-        assert_same_bits(&portable, &dispatched);
-    }
-
     /// The CST against a hand value: the right triangle (0,0), (1,0), (0,1) has B with rows
     /// (−1, 0, 1, 0, 0, 0), (0, −1, 0, 0, 0, 1), (−1, −1, 0, 1, 1, 0) and A = ½, so
     /// K₀₀ = ½ (D₀₀ + D₂₂) and K₀₁ = ½ (D₀₁ + D₂₂); its smallest altitude is 1/√2. A clockwise
@@ -1229,7 +819,7 @@ mod tests {
         let index: Vec<u8> = (0..mesh.elements.len())
             .map(|e| ((e * 7) % 3 == 0) as u8)
             .collect();
-        let mut bulk = UnstructuredBulk::with_materials(&mesh, &table, &index).unwrap();
+        let bulk = UnstructuredBulk::with_materials(&mesh, &table, &index).unwrap();
         let u = wobble(bulk.num_nodes());
         let f = forces(&bulk, &u);
         let g = reference_forces_of(&mesh, &|e| table[index[e] as usize].d, &u);
@@ -1268,8 +858,6 @@ mod tests {
             pool.install(|| forces(bulk, &u))
         };
         assert_same_bits(&run(1, &bulk), &run(2, &bulk));
-        bulk.avx512 = false;
-        assert_same_bits(&forces(&bulk, &u), &f);
     }
 
     /// A table of one material repeated splits the elements into two runs of batches, which must
