@@ -176,6 +176,26 @@ pub enum MeshError {
         /// Number of sectors around it.
         sectors: usize,
     },
+    /// Interface lines meet at a node of the outer boundary: two lines (a curve through the
+    /// boundary, or two curves from one boundary point) or more. Their node would be split into
+    /// sectors that the contact search does not tell apart once they open: not supported.
+    #[error(
+        "physical group \"{group}\": {lines} interface lines meet at node {node} ({x}, {y}) m on \
+         the outer boundary; a junction there is not supported: end each curve at a boundary node \
+         of its own"
+    )]
+    JunctionOnBoundary {
+        /// Group name.
+        group: String,
+        /// Node tag.
+        node: u64,
+        /// Number of interface lines at the node.
+        lines: usize,
+        /// Node position [m].
+        x: f64,
+        /// Node position [m].
+        y: f64,
+    },
     /// Two chains given to [`split_interface`] meet at a node.
     #[error("two interface chains share node {0} without a junction there (three or more lines)")]
     ChainsMeet(u64),
@@ -807,7 +827,7 @@ fn edge_start(mesh: &UnstructuredMesh, f: Face) -> usize {
 ///
 /// Rules: every line must be an edge of a bulk element with an element on both sides (a line
 /// with one element is a boundary); a node of three or more lines is a junction, where the chains
-/// that meet there end; the lines
+/// that meet there end; a node of the outer boundary ends one line at most; the lines
 /// fall into disjoint simple chains, open or closed, returned separately in order of their
 /// smallest line tag. A chain runs in the direction of its smallest-tagged line (Gmsh writes a
 /// curve's lines along the curve), so the + side is the left of the curve as drawn in the `.geo`.
@@ -873,6 +893,22 @@ pub fn interface_chains_of(mesh: &UnstructuredMesh, groups: &[&str]) -> Result<V
         for n in mesh.lines[l].nodes {
             at.entry(n).or_default().push(l);
         }
+    }
+    // a node of the outer boundary (on an edge with one element) may end one line only
+    let outer: HashSet<usize> = edges
+        .iter()
+        .filter(|(_, faces)| faces.len() == 1)
+        .flat_map(|(&(a, b), _)| [a, b])
+        .collect();
+    if let Some((&n, ls)) = at.iter().find(|(n, ls)| ls.len() >= 2 && outer.contains(n)) {
+        let p = mesh.positions[n];
+        return Err(MeshError::JunctionOnBoundary {
+            group: group.to_string(),
+            node: ntag(n),
+            lines: ls.len(),
+            x: p.x,
+            y: p.y,
+        });
     }
     let other_line = |n: usize, l: usize| {
         let ls = &at[&n];

@@ -20,7 +20,7 @@
 //! (K u)_a = Σ_b K_ab (u_b − u_a), and one edge serves both ends: with d = u_b − u_a,
 //! f_a −= K_ab d and f_b += K_abᵀ d (K_ba = K_abᵀ by symmetry). This is the edge-based
 //! formulation of explicit unstructured solvers (Löhner, *Applied Computational Fluid Dynamics
-//! Techniques*, 2nd ed., §4.9): about 24 flops and 36 bytes per edge, 3 edges per node on a
+//! Techniques*, 2nd ed., §4.9): about 18 flops and 36 bytes per edge, 3 edges per node on a
 //! triangle mesh and 4 on a quadrangle mesh, against a stored K_e (288 B per T3, 512 B per Q4) or
 //! the element forces recomputed from the node positions (≈ 60 flops per T3, 250 per Q4, with
 //! their gathers and scatters). A rigid translation gives exactly zero force.
