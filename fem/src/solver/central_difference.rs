@@ -42,7 +42,9 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
     // start of the step (prepared here, before the cohesive law), on sampled steps too.
     contact_step::prepare(model, state, ws);
     let overlap = !sample;
-    let (swept, contact) = if overlap {
+    // (swept, whether f holds the bulk forces, contact): without a one-pass sweep (a mapped or a
+    // Gmsh mesh) the bulk forces themselves run beside the detection
+    let (swept, forces_done, contact) = if overlap {
         let (u, v, f, sweep) = (&mut state.u, &mut state.v, &mut ws.f, &mut ws.sweep);
         let (cp, tied, x, frictionless, f_con) = (
             state.contact.as_mut(),
@@ -51,8 +53,14 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
             &ws.frictionless,
             &mut ws.f_con,
         );
-        let ((swept, _), (contact, detect_s)) = rayon::join(
-            || (super::sweep::forces_and_advance(model, u, v, f, sweep, dt), ()),
+        let (swept, (contact, detect_s)) = rayon::join(
+            || {
+                let swept = super::sweep::forces_and_advance(model, u, v, f, sweep, dt);
+                if swept.is_none() {
+                    model.internal_forces(u, f);
+                }
+                swept
+            },
             || {
                 let clock = std::time::Instant::now();
                 let c = contact_step::detect(model, cp, tied, x, frictionless, f_con);
@@ -60,12 +68,14 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
             },
         );
         ws.clock.overlapped(Phase::Contact, detect_s);
-        (swept, Some(contact))
+        (swept, true, Some(contact))
     } else {
-        (None, None)
+        (None, false, None)
     };
     if swept.is_none() {
-        model.internal_forces(&state.u, &mut ws.f);
+        if !forces_done {
+            model.internal_forces(&state.u, &mut ws.f);
+        }
         ws.sweep.done.fill(false);
     }
     ws.clock.lap(Phase::Bulk);
