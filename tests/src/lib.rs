@@ -24,6 +24,26 @@ pub fn run_repo_scene(name: &str) -> (fem::Scene, fem::RunOutput) {
     (scene, out)
 }
 
+/// [`run_repo_scene`] once per scene for the whole test binary: the tests that read the same run
+/// share it. Runs of different scenes go on in parallel (the lock is held only to find a scene's
+/// cell, not while it runs).
+pub fn shared_repo_run(name: &str) -> &'static (fem::Scene, fem::RunOutput) {
+    use std::collections::HashMap;
+    use std::sync::{Mutex, OnceLock};
+    type Cell = OnceLock<(fem::Scene, fem::RunOutput)>;
+    static CELLS: OnceLock<Mutex<HashMap<String, &'static Cell>>> = OnceLock::new();
+    let cell: &'static Cell = {
+        let mut cells = CELLS
+            .get_or_init(Default::default)
+            .lock()
+            .unwrap_or_else(|e| e.into_inner());
+        cells
+            .entry(name.to_string())
+            .or_insert_with(|| Box::leak(Box::new(Cell::new())))
+    };
+    cell.get_or_init(|| run_repo_scene(name))
+}
+
 /// Total length [m] of the line elements of the physical curves `groups` of `meshes/<mesh>`.
 pub fn curve_length(mesh: &str, groups: &[&str]) -> f64 {
     let mesh = fem::gmsh::UnstructuredMesh::read(&repo_root().join("meshes").join(mesh)).unwrap();

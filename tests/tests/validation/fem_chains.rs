@@ -12,8 +12,7 @@
 //!    column (the facet closing the loop is an ordinary facet, no tip there), each broken point
 //!    dissipated G_c, the energy balance closes and no face penetrates deeper than p_N/ε_n.
 
-use std::sync::OnceLock;
-use validation::{curve_length, g_c, run_repo_scene};
+use validation::{curve_length, g_c, shared_repo_run};
 
 // The single-element G_c test's tolerance (`fem_cohesive_law`) and the arc's (`fem_arc_interface`):
 // the trapezoid ∫T·dΔ is exact on the law's linear branches and errs by O(G_c (Δδ/δ_c)²) at the
@@ -28,16 +27,9 @@ const TOL_INSERTION_SPREAD_REL: f64 = 0.01;
 // The energy balance of the other FE tests, |residual| < 1 % of W_ext (measured 2.6e-4 and 7.1e-5).
 const TOL_BALANCE_REL: f64 = 0.01;
 
-/// The two-chain and the inclusion runs, once each for the tests of this module.
+/// The run of `scenes/<name>.toml`, once for all the tests that read it.
 fn run(name: &str) -> &'static (fem::Scene, fem::RunOutput) {
-    static TWO: OnceLock<(fem::Scene, fem::RunOutput)> = OnceLock::new();
-    static INCLUSION: OnceLock<(fem::Scene, fem::RunOutput)> = OnceLock::new();
-    let cell = if name == "tiny-fem-two-chains" {
-        &TWO
-    } else {
-        &INCLUSION
-    };
-    cell.get_or_init(|| run_repo_scene(name))
+    shared_repo_run(name)
 }
 
 #[test]

@@ -15,8 +15,7 @@
 //!    four chains breaks, the dissipation is G_c times the length of both curves (3 m), the
 //!    energy balance closes.
 
-use std::sync::OnceLock;
-use validation::{curve_length, g_c, run_repo_scene};
+use validation::{curve_length, g_c, shared_repo_run};
 
 // As in `fem_chains`: the trapezoid ∫T·dΔ errs by O(G_c (Δδ/δ_c)²) at the steps holding a kink
 // of the law. Measured −0.30 % at time_step_safety = 0.25 (−1.07 % at 0.5: the whole interface
@@ -27,16 +26,9 @@ const TOL_POINT_WORK_REL: f64 = 0.01;
 // The energy balance of the other FE tests, |residual| < 1 % of W_ext.
 const TOL_BALANCE_REL: f64 = 0.01;
 
+/// The run of `scenes/<name>.toml`, once for all the tests that read it.
 fn run(name: &str) -> &'static (fem::Scene, fem::RunOutput) {
-    static TENSION: OnceLock<(fem::Scene, fem::RunOutput)> = OnceLock::new();
-    static SHEAR: OnceLock<(fem::Scene, fem::RunOutput)> = OnceLock::new();
-    static CROSS: OnceLock<(fem::Scene, fem::RunOutput)> = OnceLock::new();
-    let cell = match name {
-        "tiny-fem-t-junction" => &TENSION,
-        "tiny-fem-t-junction-shear" => &SHEAR,
-        _ => &CROSS,
-    };
-    cell.get_or_init(|| run_repo_scene(name))
+    shared_repo_run(name)
 }
 
 /// Deepest penetration [m] and the largest excess of a penetration over p_N/ε_n [m].
