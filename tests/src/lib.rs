@@ -65,6 +65,19 @@ pub fn g_c(scene: &fem::Scene) -> f64 {
     0.5 * law.sigma_c * law.delta_c
 }
 
+/// The audit's cohesive dissipation at the end of `out` against G_c × `length` [m] of cracked
+/// interface: prints both and returns the relative error.
+pub fn dissipation_error(scene: &fem::Scene, out: &fem::RunOutput, length: f64) -> f64 {
+    let dissipated = out.energy.last().map_or(0.0, |e| e.cohesive_dissipated); // J/m
+    let expect = g_c(scene) * length; // J/m
+    let rel = dissipated / expect - 1.0;
+    println!(
+        "dissipated {dissipated:.2} J/m, G_c L = {expect:.2} J/m ({:+.3} %)",
+        100.0 * rel
+    );
+    rel
+}
+
 /// Returns `text` with dotted keys (`"fem.eps_n"`) set to new values; a `None` value removes the key.
 /// Intermediate tables are created when missing. The tests vary the small scenes this way; the
 /// harness itself derives its runs from typed scenes instead.

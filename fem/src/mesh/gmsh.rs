@@ -822,6 +822,27 @@ fn edge_start(mesh: &UnstructuredMesh, f: Face) -> usize {
     mesh.elements[f.element].nodes[f.local_edge]
 }
 
+/// For each of `n` bulk elements, the first of `surfaces` (element lists, in order) that holds it,
+/// `None` for an element in none. Every later surface that holds an element must `agree(first,
+/// later)` (surface positions), else Err((element, first, later)).
+pub(crate) fn first_surface<'a>(
+    n: usize,
+    surfaces: impl IntoIterator<Item = &'a [usize]>,
+    agree: impl Fn(usize, usize) -> bool,
+) -> Result<Vec<Option<usize>>, (usize, usize, usize)> {
+    let mut first: Vec<Option<usize>> = vec![None; n];
+    for (s, elements) in surfaces.into_iter().enumerate() {
+        for &e in elements {
+            match first[e] {
+                Some(f) if !agree(f, s) => return Err((e, f, s)),
+                Some(_) => {}
+                None => first[e] = Some(s),
+            }
+        }
+    }
+    Ok(first)
+}
+
 /// The chains of the line elements of physical curve `group`, each ordered and with the bulk
 /// element on either side of every segment.
 ///

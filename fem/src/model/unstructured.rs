@@ -244,31 +244,19 @@ impl UnstructuredBulk {
                 element: el.tag,
                 det_j,
             };
-            let (m, k): (Vec<f64>, Vec<Vec<f64>>) = match el.kind {
+            match el.kind {
                 ElementKind::T3 => {
                     let c = [x[el.nodes[0]], x[el.nodes[1]], x[el.nodes[2]]];
                     let k = cst_stiffness(&c, &material.d).map_err(inverted)?;
                     let two_a = (c[1] - c[0]).perp(&(c[2] - c[0]));
-                    let m = vec![material.density * (0.5 * two_a) / 3.0; 3];
-                    (m, k.iter().map(|r| r.to_vec()).collect())
+                    let m = [material.density * (0.5 * two_a) / 3.0; 3];
+                    add_element(&el.nodes, &m, &k, &mut mass, &mut entries);
                 }
                 ElementKind::Q4 => {
                     let c = [x[el.nodes[0]], x[el.nodes[1]], x[el.nodes[2]], x[el.nodes[3]]];
                     let k = bulk::stiffness(&c, &material.d).map_err(inverted)?;
-                    let m = bulk::lumped_mass(&c, material.density).to_vec();
-                    (m, k.iter().map(|r| r.to_vec()).collect())
-                }
-            };
-            for (&a, ma) in el.nodes.iter().zip(m) {
-                mass[a] += ma;
-            }
-            for (i, &a) in el.nodes.iter().enumerate() {
-                for (j, &b) in el.nodes.iter().enumerate() {
-                    if a < b {
-                        let (r, c) = (2 * i, 2 * j);
-                        let block = [k[r][c], k[r][c + 1], k[r + 1][c], k[r + 1][c + 1]];
-                        entries.push((a as u32, b as u32, block));
-                    }
+                    let m = bulk::lumped_mass(&c, material.density);
+                    add_element(&el.nodes, &m, &k, &mut mass, &mut entries);
                 }
             }
         }
@@ -416,11 +404,6 @@ impl UnstructuredBulk {
         self.min_transit
     }
 
-    /// Number of edges (pairs of nodes that share an element).
-    pub fn num_edges(&self) -> usize {
-        self.other.len()
-    }
-
     /// Bytes of the kernel's arrays (edges and their blocks, tiles, cross-tile lists, masses).
     pub fn memory_bytes(&self) -> usize {
         use std::mem::size_of_val;
@@ -526,6 +509,33 @@ impl UnstructuredBulk {
                 }
             }
             f[a - first] = acc;
+        }
+    }
+}
+
+/// Adds an element with nodes `nodes`, lumped masses `m` [kg/m] and stiffness `k` (DOF order
+/// x₀, y₀, x₁, y₁, …) [N/m per m]: its masses to `mass`, and its block K_ab for every pair of its
+/// nodes a < b to `entries` as (a, b, [xx, xy, yx, yy]).
+fn add_element<const N: usize, const D: usize>(
+    nodes: &[usize],
+    m: &[f64; N],
+    k: &[[f64; D]; D],
+    mass: &mut [f64],
+    entries: &mut Vec<(u32, u32, [f64; 4])>,
+) {
+    for (&a, ma) in nodes.iter().zip(m) {
+        mass[a] += ma;
+    }
+    for (i, &a) in nodes.iter().enumerate() {
+        for (j, &b) in nodes.iter().enumerate() {
+            if a < b {
+                let (r, c) = (2 * i, 2 * j);
+                entries.push((
+                    a as u32,
+                    b as u32,
+                    [k[r][c], k[r][c + 1], k[r + 1][c], k[r + 1][c + 1]],
+                ));
+            }
         }
     }
 }

@@ -8,6 +8,7 @@ use super::raw::{RawFem, RawMesh};
 use crate::error::SceneError;
 use crate::law::cohesive::LinearCohesive;
 use crate::law::elastic::PlaneStrain;
+use crate::mesh::gmsh::first_surface;
 use crate::mesh::prepared::{MeshRoles, PreparedMesh, prepare};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -282,41 +283,34 @@ fn element_materials(
         let of = |k: u8| (k > 0).then(|| materials[k as usize - 1]);
         a == b || (of(a).is_some() && of(a) == of(b))
     };
-    let n = p.mesh.elements.len();
-    // (material index, surface) of each element, from the first surface that holds it
-    let mut from: Vec<Option<(u8, usize)>> = vec![None; n];
-    for (s, name) in roles.bulk.iter().enumerate() {
-        for &e in &p.mesh.groups[name].elements {
-            match from[e] {
-                Some((k, first)) if !same(k, index[s]) => {
-                    let says = |s: usize| {
-                        if given[s].is_some() {
-                            format!("fem.mesh.materials.{}", roles.bulk[s])
-                        } else {
-                            "[material]".to_string()
-                        }
-                    };
-                    return Err(inconsistent(
-                        format!(
-                            "fem.mesh.materials.{}",
-                            roles.bulk[if given[s].is_some() { s } else { first }]
-                        ),
-                        format!(
-                            "element {} lies in the surfaces \"{}\" ({}) and \"{}\" ({}), which give it \
-                             different materials",
-                            p.mesh.elements[e].tag,
-                            roles.bulk[first],
-                            says(first),
-                            name,
-                            says(s)
-                        ),
-                    ));
+    // each element's material from the first surface that holds it
+    let groups = roles.bulk.iter().map(|name| &p.mesh.groups[name].elements[..]);
+    let from = first_surface(p.mesh.elements.len(), groups, |a, b| same(index[a], index[b])).map_err(
+        |(e, first, s)| {
+            let says = |s: usize| {
+                if given[s].is_some() {
+                    format!("fem.mesh.materials.{}", roles.bulk[s])
+                } else {
+                    "[material]".to_string()
                 }
-                Some(_) => {}
-                None => from[e] = Some((index[s], s)),
-            }
-        }
-    }
-    let element_material = from.iter().map(|f| f.map_or(0, |(k, _)| k)).collect();
+            };
+            inconsistent(
+                format!(
+                    "fem.mesh.materials.{}",
+                    roles.bulk[if given[s].is_some() { s } else { first }]
+                ),
+                format!(
+                    "element {} lies in the surfaces \"{}\" ({}) and \"{}\" ({}), which give it \
+                     different materials",
+                    p.mesh.elements[e].tag,
+                    roles.bulk[first],
+                    says(first),
+                    roles.bulk[s],
+                    says(s)
+                ),
+            )
+        },
+    )?;
+    let element_material = from.iter().map(|f| f.map_or(0, |s| index[s])).collect();
     Ok((materials, element_material))
 }

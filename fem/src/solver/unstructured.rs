@@ -27,6 +27,7 @@
 
 use crate::gmsh::{MeshError, UnstructuredMesh};
 use crate::law::elastic::PlaneStrain;
+use crate::mesh::gmsh::first_surface;
 use crate::mesh::nearest_node;
 use crate::model::bulk;
 use crate::model::reduce::ordered_sum;
@@ -220,9 +221,9 @@ fn element_materials(
     if surfaces.is_empty() {
         return Ok((table, Vec::new()));
     }
-    // the listed surface (k + 1) of each element, from the first that holds it
-    let mut index: Vec<Option<u8>> = vec![None; mesh.elements.len()];
-    for (k, s) in surfaces.iter().enumerate() {
+    // each element's material from the first listed surface that holds it (k + 1 for the k-th)
+    let mut groups = Vec::with_capacity(surfaces.len());
+    for s in surfaces {
         let group = mesh
             .group_of_dim(
                 &s.group,
@@ -230,21 +231,17 @@ fn element_materials(
                 "a material's group is a physical surface (dimension 2)",
             )
             .map_err(DriverError::MaterialGroup)?;
-        for &e in &group.elements {
-            match index[e] {
-                Some(first) if surfaces[first as usize - 1].material != s.material => {
-                    return Err(DriverError::MaterialOverlap {
-                        element: mesh.elements[e].tag,
-                        first: surfaces[first as usize - 1].group.clone(),
-                        second: s.group.clone(),
-                    });
-                }
-                Some(_) => {}
-                None => index[e] = Some(k as u8 + 1),
-            }
-        }
+        groups.push(&group.elements[..]);
     }
-    Ok((table, index.iter().map(|k| k.unwrap_or(0)).collect()))
+    let from = first_surface(mesh.elements.len(), groups, |a, b| {
+        surfaces[a].material == surfaces[b].material
+    })
+    .map_err(|(e, first, second)| DriverError::MaterialOverlap {
+        element: mesh.elements[e].tag,
+        first: surfaces[first].group.clone(),
+        second: surfaces[second].group.clone(),
+    })?;
+    Ok((table, from.iter().map(|s| s.map_or(0, |k| k as u8 + 1)).collect()))
 }
 
 /// One prescribed degree of freedom.

@@ -12,7 +12,7 @@
 //!    column (the facet closing the loop is an ordinary facet, no tip there), each broken point
 //!    dissipated G_c, the energy balance closes and no face penetrates deeper than p_N/ε_n.
 
-use validation::{curve_length, g_c, shared_repo_run};
+use validation::{curve_length, dissipation_error, g_c, shared_repo_run};
 
 // The single-element G_c test's tolerance (`fem_cohesive_law`) and the arc's (`fem_arc_interface`):
 // the trapezoid ∫T·dΔ is exact on the law's linear branches and errs by O(G_c (Δδ/δ_c)²) at the
@@ -72,14 +72,7 @@ fn two_disjoint_chains_both_break_and_dissipate_g_c_times_their_length() {
             "chain {k}: [{lo}, {hi}]"
         );
     }
-    let e = out.energy.last().unwrap();
-    let expect = g_c(scene) * (lengths[0] + lengths[1]); // J/m
-    let rel = e.cohesive_dissipated / expect - 1.0;
-    println!(
-        "dissipated {:.2} J/m, G_c L = {expect:.2} J/m ({:+.3} %)",
-        e.cohesive_dissipated,
-        100.0 * rel
-    );
+    let rel = dissipation_error(scene, out, lengths[0] + lengths[1]);
     assert!(rel.abs() <= TOL_DISSIPATION_REL);
     let (balance, w_ext) = validation::worst_energy_residual(out);
     println!("energy residual: worst {balance:.2e} of W_ext ({w_ext:.1} J/m at T)");

@@ -15,7 +15,7 @@
 //!    four chains breaks, the dissipation is G_c times the length of both curves (3 m), the
 //!    energy balance closes.
 
-use validation::{curve_length, g_c, shared_repo_run};
+use validation::{curve_length, dissipation_error, g_c, shared_repo_run};
 
 // As in `fem_chains`: the trapezoid ∫T·dΔ errs by O(G_c (Δδ/δ_c)²) at the steps holding a kink
 // of the law. Measured −0.30 % at time_step_safety = 0.25 (−1.07 % at 0.5: the whole interface
@@ -64,14 +64,7 @@ fn pulled_apart(name: &str, mesh: &str, length: f64, chains: u16, points: usize)
     }
     assert!(out.arrivals.iter().all(|a| a.chain.is_some_and(|k| k < chains)));
     assert_eq!(out.arrivals.len(), points);
-    let e = out.energy.last().unwrap();
-    let expect = g_c(scene) * length; // J/m
-    let rel = e.cohesive_dissipated / expect - 1.0;
-    println!(
-        "dissipated {:.2} J/m, G_c L = {expect:.2} J/m ({:+.3} %)",
-        e.cohesive_dissipated,
-        100.0 * rel
-    );
+    let rel = dissipation_error(scene, out, length);
     assert!(rel.abs() <= TOL_DISSIPATION_REL);
     let (deepest, beyond) = penetrations(scene, out);
     println!("deepest penetration {deepest:.3e} m, beyond p_N/ε_n by at most {beyond:.1e} m");
