@@ -270,6 +270,8 @@ impl Model for fem::Scene {
     }
 
     fn write(out: &fem::RunOutput, dir: &Path) -> std::io::Result<Vec<std::path::PathBuf>> {
+        // the folder holds this run's files only (an earlier run's would stand beside them)
+        fem::output::clear_previous(dir)?;
         fem::write_csv(out, dir)
     }
 
@@ -318,6 +320,7 @@ impl Model for spectral::Scene {
     }
 
     fn write(out: &spectral::RunOutput, dir: &Path) -> std::io::Result<Vec<std::path::PathBuf>> {
+        spectral::output::clear_previous(dir)?;
         spectral::write_csv(out, dir)
     }
 }

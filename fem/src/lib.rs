@@ -30,8 +30,9 @@ pub use model::state::{Model, State, Workspace};
 pub use nalgebra;
 pub use output::paraview::{FieldSink, FieldSnapshot, ParaviewWriter};
 pub use output::{
-    ArrivalRecord, ContactMeanRecord, EnergyRecord, FaceRecord, FieldRecord, FrictionRecord, InterfaceRecord,
-    KktRecord, ProbeRecord, ProfileRecord, ResidualStressRecord, RunOutput, RunRecord, TipRecord, write_csv,
+    ArrivalRecord, ContactMeanRecord, CrackRecord, EnergyRecord, FaceRecord, FieldRecord, FrictionRecord,
+    InterfaceRecord, KktRecord, ProbeRecord, ProfileRecord, ResidualStressRecord, RunOutput, RunRecord,
+    TipRecord, write_csv,
 };
 pub use scene::Scene;
 pub use solver::central_difference::step;

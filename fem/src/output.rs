@@ -22,6 +22,27 @@ pub struct TipRecord {
     pub cz_tip_left: f64,
 }
 
+/// The cracked extent of one interface chain at one sample: what a crack-growth history needs on
+/// any interface network, with or without a pre-crack. Each of a cohesive facet's two Gauss points
+/// stands for half of the facet's reference length; pre-crack facets are not counted.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct CrackRecord {
+    /// Time [s].
+    pub t: f64,
+    /// Interface chain [-] (0, 1, … as docs/meshes.md orders them; 0 on the built-in grids).
+    pub chain: u16,
+    /// Length of the chain's cohesive facets [m] (what may break).
+    pub cohesive_length: f64,
+    /// Length whose Gauss points are fully broken, d = 1 [m].
+    pub broken_length: f64,
+    /// Length whose Gauss points carry a cohesive element with 0 < d < 1 (process zones) [m].
+    pub process_zone_length: f64,
+    /// Smallest chain coordinate of a broken Gauss point [m] (NaN: none broken).
+    pub broken_from: f64,
+    /// Largest chain coordinate of a broken Gauss point [m] (NaN: none broken).
+    pub broken_to: f64,
+}
+
 /// Damage at one interface Gauss point.
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct InterfaceRecord {
@@ -275,8 +296,10 @@ pub struct RunOutput {
     pub mode_ii_uy: bool,
     /// The damping choice, in words.
     pub damping: String,
-    /// Tip history.
+    /// Tip history (only with a pre-crack, `[crack]`).
     pub tips: Vec<TipRecord>,
+    /// Cracked extent per interface chain per sample (with an interface).
+    pub cracks: Vec<CrackRecord>,
     /// Damage per interface Gauss point per sample.
     pub interface: Vec<InterfaceRecord>,
     /// Upper-face contact state per node per sample.
@@ -356,8 +379,48 @@ fn write<T: Serialize>(dir: &Path, name: &str, rows: &[T], out: &mut Vec<PathBuf
     Ok(())
 }
 
-/// Writes run.csv, tips.csv, interface.csv, faces.csv, contact.csv, energy.csv, arrivals.csv,
-/// probes.csv, friction.csv (with friction) and, when declared, residual_stress.csv, kkt.csv,
+/// Every CSV file [`write_csv`] may write: a run writes a subset, depending on the scene.
+pub const CSV_FILES: [&str; 14] = [
+    "run.csv",
+    "tips.csv",
+    "cracks.csv",
+    "interface.csv",
+    "faces.csv",
+    "contact.csv",
+    "energy.csv",
+    "arrivals.csv",
+    "probes.csv",
+    "friction.csv",
+    "residual_stress.csv",
+    "kkt.csv",
+    "field.csv",
+    "profile.csv",
+];
+
+/// Removes from `dir` the files an earlier run of the model left there ([`CSV_FILES`], `fields.pvd` and
+/// the snapshots in `fields/`), so that the folder holds one run's output only: a scene that no
+/// longer writes a file (no pre-crack, no friction, another snapshot interval) would otherwise
+/// leave the old one beside the new ones. Returns the number of files removed. Only for a
+/// folder claimed by this model (`preflight::paths::claim`): nothing else is touched.
+pub fn clear_previous(dir: &Path) -> io::Result<usize> {
+    let mut snapshots: Vec<PathBuf> = std::fs::read_dir(dir.join(paraview::FIELDS_DIR))
+        .map(|entries| {
+            entries
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| paraview::is_snapshot_file(p))
+                .collect()
+        })
+        .unwrap_or_default();
+    snapshots.sort();
+    let files = CSV_FILES
+        .iter()
+        .chain([&paraview::COLLECTION])
+        .map(|name| dir.join(name));
+    preflight::paths::remove_files(files.chain(snapshots))
+}
+
+/// Writes run.csv, tips.csv (with a pre-crack), cracks.csv (with an interface), interface.csv,
+/// faces.csv, contact.csv, energy.csv, arrivals.csv, probes.csv, friction.csv (with friction) and, when declared, residual_stress.csv, kkt.csv,
 /// field.csv, profile.csv into `dir`.
 pub fn write_csv(output: &RunOutput, dir: &Path) -> io::Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir)?;
@@ -371,7 +434,13 @@ pub fn write_csv(output: &RunOutput, dir: &Path) -> io::Result<Vec<PathBuf>> {
         || {
             let mut out = Vec::new();
             write(dir, "run.csv", &[output.record()], &mut out)?;
-            write(dir, "tips.csv", &output.tips, &mut out)?;
+            // tips exist only from a pre-crack; the per-chain extents on any interface
+            if !output.tips.is_empty() {
+                write(dir, "tips.csv", &output.tips, &mut out)?;
+            }
+            if !output.cracks.is_empty() {
+                write(dir, "cracks.csv", &output.cracks, &mut out)?;
+            }
             write(dir, "faces.csv", &output.faces, &mut out)?;
             write(dir, "contact.csv", &output.contact, &mut out)?;
             write(dir, "energy.csv", &output.energy, &mut out)?;
@@ -397,4 +466,44 @@ pub fn write_csv(output: &RunOutput, dir: &Path) -> io::Result<Vec<PathBuf>> {
     let mut out = rest?;
     out.insert(2, interface?.remove(0));
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clearing_removes_the_model_files_and_nothing_else() {
+        let dir = std::env::temp_dir().join(format!("fem-clear-previous-{}", std::process::id()));
+        let fields = dir.join(paraview::FIELDS_DIR);
+        std::fs::create_dir_all(&fields).unwrap();
+        let ours = [
+            "tips.csv",
+            "friction.csv",
+            "fields.pvd",
+            "fields/bulk_000000.vtu",
+            "fields/crack_0001234.vtu",
+        ];
+        let theirs = [
+            "notes.txt",
+            "tips.csv.bak",
+            "fields/bulk_final.vtu",
+            "fields/mine.vtu",
+            ".written-by",
+        ];
+        for f in ours.iter().chain(&theirs) {
+            std::fs::write(dir.join(f), "x").unwrap();
+        }
+        assert_eq!(clear_previous(&dir).unwrap(), ours.len());
+        for f in ours {
+            assert!(!dir.join(f).exists(), "{f} kept");
+        }
+        for f in theirs {
+            assert!(dir.join(f).exists(), "{f} removed");
+        }
+        // a second call finds nothing; a folder without fields/ is fine
+        assert_eq!(clear_previous(&dir).unwrap(), 0);
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(clear_previous(&dir).unwrap(), 0);
+    }
 }

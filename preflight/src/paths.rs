@@ -60,6 +60,29 @@ pub fn claim(dir: &Path, model: &str) -> Result<(), String> {
         .map_err(|e| format!("output folder {}: cannot write to it: {e}", dir.display()))
 }
 
+/// Removes the files `paths` that exist (a claimed folder's earlier output, so that it holds one
+/// run's files only); a missing file is not an error. Returns how many were removed.
+pub fn remove_files(paths: impl IntoIterator<Item = std::path::PathBuf>) -> std::io::Result<usize> {
+    let mut removed = 0;
+    for path in paths {
+        match std::fs::remove_file(&path) {
+            Ok(()) => removed += 1,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(removed)
+}
+
+/// The note for a run's first line after [`remove_files`]: empty when nothing was removed.
+pub fn removed_note(removed: usize) -> String {
+    if removed > 0 {
+        format!(" (the previous run's {removed} files removed)")
+    } else {
+        String::new()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -117,6 +117,16 @@ fn write<T: Serialize>(path: PathBuf, records: &[T]) -> std::io::Result<PathBuf>
     Ok(path)
 }
 
+/// Every file [`write_csv`] may write (fields.csv only with field snapshots).
+pub const CSV_FILES: [&str; 4] = ["tips.csv", "contact.csv", "fields.csv", "stats.csv"];
+
+/// Removes from `dir` the files of an earlier run ([`CSV_FILES`]), so that a run without field
+/// snapshots does not leave an older fields.csv beside its own files. Returns how many were
+/// removed. Only for a folder claimed by this model (`preflight::paths::claim`).
+pub fn clear_previous(dir: &Path) -> std::io::Result<usize> {
+    preflight::paths::remove_files(CSV_FILES.iter().map(|name| dir.join(name)))
+}
+
 /// Writes tips.csv, contact.csv and (if any) fields.csv into `dir` (created if needed).
 pub fn write_csv(out: &RunOutput, dir: &Path) -> std::io::Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir)?;

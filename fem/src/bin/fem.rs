@@ -35,6 +35,13 @@ fn main() -> Result<()> {
         .check(&estimate)
         .map_err(|e| anyhow!("scene {}: {e}", cli.scene.display()))?;
     preflight::paths::claim(&out_dir, "fem").map_err(|e| anyhow!(e))?;
+    // one run per folder: an earlier run's files would stand beside this one's
+    let removed = fem::output::clear_previous(&out_dir).with_context(|| {
+        format!(
+            "output folder {}: removing the previous run's files",
+            out_dir.display()
+        )
+    })?;
     let mut fields = match scene.fem.paraview {
         Some(_) => Some(
             fem::ParaviewWriter::new(&out_dir, estimate.steps)
@@ -44,11 +51,12 @@ fn main() -> Result<()> {
     };
     let stop = preflight::stop::on_signal().map_err(|e| anyhow!(e))?;
     println!(
-        "{}: {} (dt = {:.4e} s); output in {}",
+        "{}: {} (dt = {:.4e} s); output in {}{}",
         cli.scene.display(),
         estimate.summary(),
         scene.time_step(),
-        out_dir.display()
+        out_dir.display(),
+        preflight::paths::removed_note(removed)
     );
     if let (Some(p), Some((count, each))) = (scene.fem.paraview, fem::solver::estimate::field_files(&scene)) {
         println!(
@@ -131,6 +139,9 @@ fn main() -> Result<()> {
             out_dir.join("fields").display()
         );
     }
+    if let Some(line) = crack_summary(&output.cracks) {
+        println!("{line}");
+    }
     let record = output.record();
     if record.dropped_contacts > 0 {
         eprintln!(
@@ -143,4 +154,18 @@ fn main() -> Result<()> {
         bail!("{msg}; the output up to there is in {}", out_dir.display());
     }
     Ok(())
+}
+
+/// The last sample of cracks.csv in one line: broken and cohesive lengths over all chains.
+fn crack_summary(cracks: &[fem::CrackRecord]) -> Option<String> {
+    let t = cracks.last()?.t;
+    let last: Vec<_> = cracks.iter().filter(|r| r.t == t).collect();
+    let (broken, cohesive) = last.iter().fold((0.0, 0.0), |(b, c), r| {
+        (b + r.broken_length, c + r.cohesive_length)
+    });
+    let cracked = last.iter().filter(|r| r.broken_length > 0.0).count();
+    Some(format!(
+        "at t = {t:.6} s: {broken:.6} m broken of {cohesive:.6} m of cohesive interface, on {cracked} of {} chain(s) (cracks.csv)",
+        last.len()
+    ))
 }

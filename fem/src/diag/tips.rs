@@ -4,7 +4,7 @@
 use crate::mesh::interfaces::{FacetKind, InterfaceRow};
 use crate::model::cohesive::facet_gauss;
 use crate::model::state::{Model, State};
-use crate::output::{ArrivalRecord, InterfaceRecord, TipRecord};
+use crate::output::{ArrivalRecord, CrackRecord, InterfaceRecord, TipRecord};
 
 /// Interface coordinate of Gauss point q of facet c [m] (x on the built-in grids).
 fn gauss_x(model: &Model, c: usize, q: usize) -> f64 {
@@ -85,6 +85,44 @@ pub(crate) fn tips(model: &Model, state: &State) -> TipRecord {
         tip_left: left.0,
         cz_tip_right: right.1,
         cz_tip_left: left.1,
+    }
+}
+
+/// The cracked extent of every chain: one record per chain, in chain order. Each Gauss point of
+/// a cohesive facet stands for half the facet's length (the 2-point Gauss weights).
+pub(crate) fn crack_records(model: &Model, state: &State, out: &mut Vec<CrackRecord>) {
+    let Some(row) = &model.iface else { return };
+    let first = out.len();
+    out.extend((0..row.num_chains()).map(|k| CrackRecord {
+        t: state.t,
+        chain: k as u16,
+        cohesive_length: 0.0,
+        broken_length: 0.0,
+        process_zone_length: 0.0,
+        broken_from: f64::NAN,
+        broken_to: f64::NAN,
+    }));
+    for c in 0..row.num_facets() {
+        if row.kind[c] != FacetKind::Cohesive {
+            continue;
+        }
+        let r = &mut out[first + row.chain[row.facet_columns(c)[0]] as usize];
+        let half = 0.5 * row.length[c];
+        r.cohesive_length += 2.0 * half;
+        if !state.facets.inserted[c] {
+            continue;
+        }
+        for q in 0..2 {
+            let d = state.facets.gauss[c][q].damage;
+            if d >= 1.0 {
+                r.broken_length += half;
+                let x = gauss_x(model, c, q);
+                r.broken_from = r.broken_from.min(x);
+                r.broken_to = r.broken_to.max(x);
+            } else if d > 0.0 {
+                r.process_zone_length += half;
+            }
+        }
     }
 }
 

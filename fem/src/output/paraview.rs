@@ -160,6 +160,19 @@ pub const FIELDS_DIR: &str = "fields";
 /// The collection file, beside [`FIELDS_DIR`].
 pub const COLLECTION: &str = "fields.pvd";
 
+/// Whether `path` is a snapshot file as [`ParaviewWriter`] names them: `bulk_<digits>.vtu` or
+/// `crack_<digits>.vtu`.
+pub fn is_snapshot_file(path: &Path) -> bool {
+    let Some(name) = path.file_name().and_then(|n| n.to_str()) else {
+        return false;
+    };
+    let Some(stem) = name.strip_suffix(".vtu") else {
+        return false;
+    };
+    let digits = stem.strip_prefix("bulk_").or_else(|| stem.strip_prefix("crack_"));
+    digits.is_some_and(|d| !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit()))
+}
+
 /// Writes each snapshot as `fields/bulk_<step>.vtu` (+ `fields/crack_<step>.vtu`) at once, and the
 /// collection `fields.pvd` listing them in [`ParaviewWriter::finish`].
 #[derive(Debug)]

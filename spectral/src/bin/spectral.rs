@@ -34,16 +34,24 @@ fn main() -> anyhow::Result<()> {
         .check(&estimate)
         .map_err(|e| anyhow!("scene {}: {e}", scene_path.display()))?;
     preflight::paths::claim(&out_dir, "spectral").map_err(|e| anyhow!(e))?;
+    // one run per folder: an earlier run's files would stand beside this one's
+    let removed = spectral::output::clear_previous(&out_dir).with_context(|| {
+        format!(
+            "output folder {}: removing the previous run's files",
+            out_dir.display()
+        )
+    })?;
     let stop = preflight::stop::on_signal().map_err(|e| anyhow!(e))?;
     for w in scene.warnings() {
         eprintln!("warning: {w}");
     }
     println!(
-        "{}: {} (dt = {:.4e} s); output in {}",
+        "{}: {} (dt = {:.4e} s); output in {}{}",
         scene_path.display(),
         estimate.summary(),
         scene.time_step(),
-        out_dir.display()
+        out_dir.display(),
+        preflight::paths::removed_note(removed)
     );
     let bar = ProgressBar::new(estimate.steps);
     bar.set_style(ProgressStyle::with_template(
