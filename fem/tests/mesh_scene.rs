@@ -122,6 +122,78 @@ fn the_built_in_grid_written_to_msh_runs_to_the_same_tips() {
     }
 }
 
+/// An ASCII MSH 4.1 file with every node coordinate multiplied by `factor` (the `$Nodes` block:
+/// a header, then per entity a header, its node tags and its coordinates).
+fn scaled_msh(text: &str, factor: f64) -> String {
+    let mut out = Vec::new();
+    let mut lines = text.lines();
+    while let Some(line) = lines.next() {
+        out.push(line.to_string());
+        if line != "$Nodes" {
+            continue;
+        }
+        let header = lines.next().unwrap();
+        out.push(header.to_string());
+        let blocks: usize = header.split_whitespace().next().unwrap().parse().unwrap();
+        for _ in 0..blocks {
+            let entity = lines.next().unwrap();
+            out.push(entity.to_string());
+            let count: usize = entity.split_whitespace().nth(3).unwrap().parse().unwrap();
+            for _ in 0..count {
+                out.push(lines.next().unwrap().to_string());
+            }
+            for _ in 0..count {
+                let xyz: Vec<String> = lines
+                    .next()
+                    .unwrap()
+                    .split_whitespace()
+                    .map(|v| (v.parse::<f64>().unwrap() * factor).to_string())
+                    .collect();
+                out.push(xyz.join(" "));
+            }
+        }
+    }
+    out.join("\n") + "\n"
+}
+
+/// A mesh drawn in millimetres, read with `unit = 1e-3`, is the mesh in metres: the same step,
+/// the same tips to round-off (the positions differ from the metre file's by an ulp or so, so as
+/// in the round trip above, 1e-12 of the width; a tip moves by whole Gauss points, so a wrong
+/// scale shows as 1e-4 m or more). Read without the unit the same file is a body 1000 times
+/// larger, with a step 1000 times longer.
+#[test]
+fn a_mesh_in_millimetres_runs_in_metres_with_its_unit() {
+    let dir = temp_dir("millimetres");
+    let roles = "pre_crack = [\"crack\"]\ninterface = [\"interface\"]";
+    let metres = Scene::from_toml_str(&tiny_on_mesh(&dir, roles)).unwrap();
+    let mm_file = dir.join("grid-mm.msh");
+    let text = std::fs::read_to_string(dir.join("grid.msh")).unwrap();
+    std::fs::write(&mm_file, scaled_msh(&text, 1e3)).unwrap();
+    let scene_text = on_mesh(&scene_text("tiny-fem-center-crack"), &mm_file, roles);
+    let mm = Scene::from_toml_str(&scene_text.replace("[fem.mesh]\n", "[fem.mesh]\nunit = 1e-3\n")).unwrap();
+    let (dt_m, dt_mm) = (metres.time_step(), mm.time_step());
+    assert!((dt_m - dt_mm).abs() <= 1e-12 * dt_m, "{dt_m} vs {dt_mm}");
+    let (a, b) = (fem::run(&metres).unwrap(), fem::run(&mm).unwrap());
+    assert_eq!(a.tips.len(), b.tips.len());
+    assert!(a.tips.last().unwrap().tip_right > 0.012, "the crack must grow");
+    for (p, q) in a.tips.iter().zip(&b.tips) {
+        for (x, y) in [(p.tip_right, q.tip_right), (p.tip_left, q.tip_left)] {
+            assert!((x - y).abs() <= 1e-12 * 0.04, "t = {}: {x} vs {y}", p.t);
+        }
+    }
+    // without the unit the file is read in metres: its crack does not match [crack]
+    let e = refused(&scene_text);
+    assert!(e.contains("crack.half_length"), "{e}");
+    // a unit that is no length
+    for bad in ["0.0", "-1e-3", "nan"] {
+        let e = refused(&scene_text.replace("[fem.mesh]\n", &format!("[fem.mesh]\nunit = {bad}\n")));
+        assert!(
+            e.contains("fem.mesh.unit") && e.contains("millimetres"),
+            "{bad}: {e}"
+        );
+    }
+}
+
 /// The tiny centre crack's grid as an MSH file in `dir`, and the scene text without its grid keys.
 fn tiny_on_mesh(dir: &Path, roles: &str) -> String {
     let text = scene_text("tiny-fem-center-crack");

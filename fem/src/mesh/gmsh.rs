@@ -352,6 +352,16 @@ impl UnstructuredMesh {
         Self::from_msh_bytes(&bytes)
     }
 
+    /// Scales every node position by `factor` (the length of one unit of the file's
+    /// coordinates [m], e.g. 1e-3 for a mesh drawn in millimetres), so that the mesh is in metres.
+    /// Orientation, shapes and groups are unchanged: every check of the reader is relative to the
+    /// mesh's own size.
+    pub fn scale(&mut self, factor: f64) {
+        for p in &mut self.positions {
+            *p *= factor;
+        }
+    }
+
     /// Builds the mesh from the bytes of a Gmsh MSH 4.1 file, ASCII or binary.
     pub fn from_msh_bytes(bytes: &[u8]) -> Result<Self, MeshError> {
         // mshio 0.4 still has a few `unimplemented!`/`expect` on malformed headers: a panic there

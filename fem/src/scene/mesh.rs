@@ -20,6 +20,8 @@ pub struct MeshSpec {
     pub file: PathBuf,
     /// The roles of its physical groups.
     pub roles: MeshRoles,
+    /// Length of one unit of the file's coordinates [m] (1 unless `unit` says otherwise).
+    pub unit: f64,
     /// The mesh read, checked and split along its interface (shared by every variant of the scene).
     pub prepared: Arc<PreparedMesh>,
     /// Per interface curve (in the order of `roles.interface`): its own cohesive law, or `None`
@@ -40,6 +42,7 @@ impl PartialEq for MeshSpec {
     fn eq(&self, other: &Self) -> bool {
         self.file == other.file
             && self.roles == other.roles
+            && self.unit == other.unit
             && self.laws == other.laws
             && self.materials == other.materials
     }
@@ -112,8 +115,19 @@ pub(crate) fn mesh(
              other parts of the scene (boundary field, spectral model) read",
         ));
     }
-    let mesh = crate::gmsh::UnstructuredMesh::read(&file)
+    let unit = m.unit.unwrap_or(1.0);
+    if !(unit.is_finite() && unit > 0.0) {
+        return Err(inconsistent(
+            "fem.mesh.unit",
+            format!(
+                "{unit}: give the length of one unit of the file's coordinates in metres, > 0 \
+                 (1e-3 for a mesh drawn in millimetres)"
+            ),
+        ));
+    }
+    let mut mesh = crate::gmsh::UnstructuredMesh::read(&file)
         .map_err(|e| inconsistent("fem.mesh.file", e.to_string()))?;
+    mesh.scale(unit);
     let prepared = prepare(mesh, &roles)
         .map_err(|e| inconsistent(format!("fem.mesh.{}", e.role), e.error.to_string()))?;
     // the interface's shortest and mean facet (the smallest element without an interface)
@@ -152,6 +166,7 @@ pub(crate) fn mesh(
         MeshSpec {
             file,
             roles,
+            unit,
             prepared: Arc::new(prepared),
             laws,
             materials,

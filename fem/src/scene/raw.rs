@@ -147,6 +147,8 @@ pub(crate) struct RawMesh {
     pub bulk: Option<Vec<String>>,
     pub pre_crack: Option<Vec<String>>,
     pub interface: Option<Vec<String>>,
+    /// Length of one unit of the file's coordinates [m] (default 1; 1e-3 for millimetres).
+    pub unit: Option<f64>,
     /// Per interface curve, by name: its own cohesive law.
     pub laws: Option<std::collections::BTreeMap<String, RawInterface>>,
     /// Per bulk surface, by name: its own material.
