@@ -13,7 +13,7 @@ mod problem;
 mod raw;
 mod rough;
 
-pub use boundary::{BoundaryComponent, BoundaryKind, BoundarySpec};
+pub use boundary::{BoundaryComponent, BoundaryCurve, BoundaryKind, BoundarySpec, GRID_SIDES};
 pub use damping::{Damping, DampingRate, DampingSet};
 pub use diagnostics::Diagnostics;
 pub use fem::{FemSpec, InsertionRule, ModelKind};

@@ -657,3 +657,59 @@ fn contact_across_a_right_angled_kink_keeps_the_energy_balance() {
     );
     assert_eq!(lost, 0, "contacts lost to the detection distance");
 }
+
+/// `[fem.boundary.NAME]` on a mesh takes any physical curve of the file, not only the grid's four
+/// side names: the brick wall with its "bottom" and "top" curves renamed (in the file and in the
+/// scene) runs to the same records, bit for bit (the two curves share no node, so the order in
+/// which conditions apply cannot differ). On the built-in grid, a name other than its four sides
+/// is refused naming the key, and a bad component names the curve's own key.
+#[test]
+fn boundary_conditions_take_any_curve_of_the_mesh() {
+    let dir = temp_dir("curve-names");
+    let meshes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../meshes");
+    let msh = std::fs::read_to_string(meshes.join("brick-wall.msh")).unwrap();
+    let renamed = msh
+        .replace("\"bottom\"", "\"foundation\"")
+        .replace("\"top\"", "\"beam\"");
+    assert_ne!(renamed, msh);
+    std::fs::write(dir.join("wall.msh"), renamed).unwrap();
+    let text = scene_text("tiny-fem-brick-wall")
+        .replace("file = \"../meshes/brick-wall.msh\"", "file = \"MESH\"")
+        .replace("duration = 0.1 ", "duration = 0.03 ");
+    let original = text.replace("MESH", &meshes.join("brick-wall.msh").display().to_string());
+    let own = text
+        .replace("MESH", &dir.join("wall.msh").display().to_string())
+        .replace("[fem.boundary.bottom]", "[fem.boundary.foundation]")
+        .replace("[fem.boundary.top]", "[fem.boundary.beam]");
+    let (a, b) = (
+        fem::run(&Scene::from_toml_str(&original).unwrap()).unwrap(),
+        fem::run(&Scene::from_toml_str(&own).unwrap()).unwrap(),
+    );
+    let w = a.energy.last().unwrap().boundary_work;
+    assert!(w > 0.0, "the boundary must do work: {w}");
+    assert_eq!(a.energy.len(), b.energy.len());
+    for (p, q) in a.energy.iter().zip(&b.energy) {
+        assert_eq!(
+            (p.boundary_work, p.strain, p.kinetic, p.cohesive_dissipated),
+            (q.boundary_work, q.strain, q.kinetic, q.cohesive_dissipated),
+            "t = {}",
+            p.t
+        );
+    }
+    // the curve's own key in an error of its component
+    let e = refused(&own.replacen("kind = \"displacement\"", "kind = \"force\"", 1));
+    assert!(
+        e.contains("fem.boundary.foundation.x") && e.contains("traction"),
+        "{e}"
+    );
+    // a name the mesh lacks: the curves it has are listed
+    let e = refused(&own.replace("[fem.boundary.beam]", "[fem.boundary.lid]"));
+    assert!(e.contains("fem.boundary.lid") && e.contains("beam"), "{e}");
+    // on the built-in grid, only its four sides
+    let grid = scene_text("tiny-fem-cohesive-pull").replace("[fem.boundary.top]", "[fem.boundary.lid]");
+    let e = refused(&grid);
+    assert!(
+        e.contains("fem.boundary.lid") && e.contains("bottom, right, top and left"),
+        "{e}"
+    );
+}

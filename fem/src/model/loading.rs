@@ -5,7 +5,7 @@
 use crate::mesh::prepared::PreparedMesh;
 use crate::mesh::structured::{Grid, LayerSide};
 use crate::model::state::BoundaryDof;
-use crate::scene::{BoundaryKind, BoundarySpec, Ramp, Scene};
+use crate::scene::{BoundaryKind, BoundarySpec, GRID_SIDES, Ramp, Scene};
 use nalgebra::{Complex, Vector2};
 use std::collections::HashMap;
 
@@ -115,11 +115,15 @@ fn westergaard_on(scene: &Scene, nodes: impl Iterator<Item = (usize, Vector2<f64
 pub(crate) fn boundary_on_mesh(scene: &Scene, mesh: &PreparedMesh) -> BoundaryData {
     match &scene.fem.boundary {
         Some(b) => {
-            let sides = ["bottom", "right", "top", "left"].map(|name| {
-                mesh.curve_nodes(name)
-                    .unwrap_or_else(|_| (Vec::new(), Vec::new()))
-            });
-            sidewise(b, &sides)
+            let curves: Vec<_> = b
+                .curves
+                .iter()
+                .map(|c| {
+                    mesh.curve_nodes(&c.name)
+                        .expect("invariant: the scene's boundary curves were checked against the mesh")
+                })
+                .collect();
+            sidewise(b, &curves)
         }
         None => westergaard_on(
             scene,
@@ -153,22 +157,31 @@ fn tributary(grid: &Grid, nodes: &[u32]) -> Vec<f64> {
 }
 
 fn sidewise_grid(b: &BoundarySpec, grid: &Grid) -> BoundaryData {
-    let sides = side_nodes(grid).map(|nodes| {
-        let w = tributary(grid, &nodes);
-        (nodes, w)
-    });
+    let nodes = side_nodes(grid);
+    let sides: Vec<_> = b
+        .curves
+        .iter()
+        .map(|c| {
+            let k = GRID_SIDES
+                .iter()
+                .position(|&s| s == c.name)
+                .expect("invariant: a grid scene's boundary names its sides only");
+            (nodes[k].clone(), tributary(grid, &nodes[k]))
+        })
+        .collect();
     sidewise(b, &sides)
 }
 
-/// Side-wise conditions on the sides' (nodes, tributary lengths [m]), in the order
-/// [bottom, right, top, left].
-fn sidewise(b: &BoundarySpec, sides: &[(Vec<u32>, Vec<f64>); 4]) -> BoundaryData {
+/// The conditions of `b` on its curves' (nodes, tributary lengths [m]), one per entry of
+/// `b.curves` and in that order: a later displacement replaces an earlier one at a shared node,
+/// and a traction does not act on a component a displacement holds.
+fn sidewise(b: &BoundarySpec, sides: &[(Vec<u32>, Vec<f64>)]) -> BoundaryData {
     let mut ramps = Vec::new();
     let mut presc_index: HashMap<(u32, u8), usize> = HashMap::new();
     let mut prescribed: Vec<BoundaryDof> = Vec::new();
     for (s, (nodes, _)) in sides.iter().enumerate() {
         for dof in 0..2u8 {
-            let Some(c) = b.sides[s][dof as usize] else {
+            let Some(c) = b.curves[s].components[dof as usize] else {
                 continue;
             };
             if c.kind != BoundaryKind::Displacement {
@@ -195,7 +208,7 @@ fn sidewise(b: &BoundarySpec, sides: &[(Vec<u32>, Vec<f64>); 4]) -> BoundaryData
     let mut neumann = Vec::new();
     for (s, (nodes, w)) in sides.iter().enumerate() {
         for dof in 0..2u8 {
-            let Some(c) = b.sides[s][dof as usize] else {
+            let Some(c) = b.curves[s].components[dof as usize] else {
                 continue;
             };
             if c.kind != BoundaryKind::Traction {

@@ -1,9 +1,9 @@
 //! Side-wise boundary conditions of `[fem.boundary]`: per side and component, an imposed
 //! displacement [m] or traction [Pa] through the ramp of eq. (B.1).
 
-use super::checks::{check, option};
+use super::checks::{check, inconsistent, option};
 use super::problem::Ramp;
-use super::raw::{RawBoundaryComponent, RawSide};
+use super::raw::{RawBoundary, RawBoundaryComponent, RawSide};
 use crate::error::SceneError;
 
 /// Kind of a boundary condition component.
@@ -24,15 +24,38 @@ pub struct BoundaryComponent {
     pub ramp: Ramp,
 }
 
-/// Side-wise boundary conditions replacing the Westergaard field; sides or components not given are free.
-/// Index order: [bottom, right, top, left], each [x, y].
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct BoundarySpec {
-    /// Per side, per component.
-    pub sides: [[Option<BoundaryComponent>; 2]; 4],
+/// The sides of the built-in grid, in the order their conditions apply.
+pub const GRID_SIDES: [&str; 4] = ["bottom", "right", "top", "left"];
+
+/// At most this many sides or curves in `[fem.boundary]`.
+pub const MAX_CURVES: usize = 100;
+
+/// The conditions of one side of the grid, or of one physical curve of a mesh.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BoundaryCurve {
+    /// The side (`bottom`, `right`, `top`, `left`) or the mesh's physical curve.
+    pub name: String,
+    /// Per component [x, y]: its condition, or `None` (free).
+    pub components: [Option<BoundaryComponent>; 2],
 }
 
-fn component(field: &'static str, c: &RawBoundaryComponent) -> Result<BoundaryComponent, SceneError> {
+/// Boundary conditions replacing the Westergaard field; sides, curves or components not given
+/// are free. They apply in this order, a later displacement replacing an earlier one at a shared
+/// node: the grid's sides in the order [`GRID_SIDES`], then the other curves by name.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct BoundarySpec {
+    /// Per side or curve, in the order they apply.
+    pub curves: Vec<BoundaryCurve>,
+}
+
+impl BoundarySpec {
+    /// The conditions of the side or curve `name` (`None`: not given).
+    pub fn curve(&self, name: &str) -> Option<&BoundaryCurve> {
+        self.curves.iter().find(|c| c.name == name)
+    }
+}
+
+fn component(field: &str, c: &RawBoundaryComponent) -> Result<BoundaryComponent, SceneError> {
     let kind = option(
         field,
         Some(&c.kind),
@@ -61,12 +84,37 @@ fn component(field: &'static str, c: &RawBoundaryComponent) -> Result<BoundaryCo
     Ok(BoundaryComponent { kind, ramp })
 }
 
-pub(crate) fn side(
-    names: [&'static str; 2],
-    s: &Option<RawSide>,
-) -> Result<[Option<BoundaryComponent>; 2], SceneError> {
-    let Some(s) = s else { return Ok([None, None]) };
-    let x = s.x.as_ref().map(|c| component(names[0], c)).transpose()?;
-    let y = s.y.as_ref().map(|c| component(names[1], c)).transpose()?;
-    Ok([x, y])
+fn side(name: &str, s: &RawSide) -> Result<BoundaryCurve, SceneError> {
+    let key = |c: &str| format!("fem.boundary.{name}.{c}");
+    let x = s.x.as_ref().map(|c| component(&key("x"), c)).transpose()?;
+    let y = s.y.as_ref().map(|c| component(&key("y"), c)).transpose()?;
+    Ok(BoundaryCurve {
+        name: name.to_string(),
+        components: [x, y],
+    })
+}
+
+/// The conditions of `[fem.boundary]` in the order they apply: the grid's sides first, in the
+/// order of [`GRID_SIDES`], then the other names in order.
+pub(crate) fn boundary(b: &RawBoundary) -> Result<BoundarySpec, SceneError> {
+    // each component given is one ramp of the loading, indexed by a byte
+    if b.len() > MAX_CURVES {
+        return Err(inconsistent(
+            "fem.boundary",
+            format!("{} sides or curves: at most {MAX_CURVES}", b.len()),
+        ));
+    }
+    let rank = |name: &str| {
+        GRID_SIDES
+            .iter()
+            .position(|&s| s == name)
+            .unwrap_or(GRID_SIDES.len())
+    };
+    let mut names: Vec<&String> = b.keys().collect();
+    names.sort_by_key(|n| rank(n)); // stable: the other names stay in the map's (name) order
+    let curves = names
+        .into_iter()
+        .map(|n| side(n, &b[n]))
+        .collect::<Result<_, _>>()?;
+    Ok(BoundarySpec { curves })
 }

@@ -1,6 +1,6 @@
 //! The `[fem]` section: discretisation, model options, boundary conditions.
 
-use super::boundary::{BoundarySpec, side};
+use super::boundary::{BoundarySpec, GRID_SIDES, boundary};
 use super::checks::{check, inconsistent, keep, option};
 use super::damping::{Damping, damping};
 use super::diagnostics::{Diagnostics, diagnostics};
@@ -251,16 +251,9 @@ fn mesh_boundary(f: &RawFem, crack: Option<&Crack>, m: &MeshSpec) -> Result<(), 
             }
         }
         Some(b) => {
-            for (name, given) in [
-                ("bottom", b.bottom.is_some()),
-                ("right", b.right.is_some()),
-                ("top", b.top.is_some()),
-                ("left", b.left.is_some()),
-            ] {
-                if given {
-                    p.curve_nodes(name)
-                        .map_err(|e| inconsistent(format!("fem.boundary.{name}"), e.to_string()))?;
-                }
+            for name in b.keys() {
+                p.curve_nodes(name)
+                    .map_err(|e| inconsistent(format!("fem.boundary.{name}"), e.to_string()))?;
             }
         }
     }
@@ -371,17 +364,17 @@ fn blocks_and_boundary(f: &RawFem, crack: Option<&Crack>) -> Result<(f64, Option
             "needs a full-width pre-crack (two separate blocks)",
         ));
     }
-    let boundary = match &f.boundary {
-        None => None,
-        Some(b) => Some(BoundarySpec {
-            sides: [
-                side(["fem.boundary.bottom.x", "fem.boundary.bottom.y"], &b.bottom)?,
-                side(["fem.boundary.right.x", "fem.boundary.right.y"], &b.right)?,
-                side(["fem.boundary.top.x", "fem.boundary.top.y"], &b.top)?,
-                side(["fem.boundary.left.x", "fem.boundary.left.y"], &b.left)?,
-            ],
-        }),
-    };
+    let boundary = f.boundary.as_ref().map(boundary).transpose()?;
+    if let (Some(b), None) = (&boundary, &f.mesh) {
+        // the built-in grid has its four sides; other names are curves of a mesh file
+        if let Some(c) = b.curves.iter().find(|c| !GRID_SIDES.contains(&c.name.as_str())) {
+            return Err(inconsistent(
+                format!("fem.boundary.{}", c.name),
+                "the built-in grid's sides are bottom, right, top and left (other names are physical \
+                 curves of a [fem.mesh] file)",
+            ));
+        }
+    }
     if boundary.is_none() && (crack.is_none() || full_width) {
         return Err(inconsistent(
             "fem.boundary",

@@ -82,13 +82,9 @@ pub(crate) struct RawSide {
     pub y: Option<RawBoundaryComponent>,
 }
 
-#[derive(Debug, Clone, Default, Deserialize)]
-pub(crate) struct RawBoundary {
-    pub bottom: Option<RawSide>,
-    pub right: Option<RawSide>,
-    pub top: Option<RawSide>,
-    pub left: Option<RawSide>,
-}
+/// `[fem.boundary]`: per side of the built-in grid (`bottom`, `right`, `top`, `left`) or per
+/// physical curve of a `[fem.mesh]` file, by name.
+pub(crate) type RawBoundary = std::collections::BTreeMap<String, RawSide>;
 
 #[derive(Debug, Clone, Deserialize)]
 pub(crate) struct RawFem {
