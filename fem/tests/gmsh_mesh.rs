@@ -621,3 +621,44 @@ fn interface_lines_meeting_on_the_outer_boundary_are_refused_with_the_node() {
     // each curve alone ends at one boundary node: accepted
     assert_eq!(interface_chains(&mesh, "left_cut").unwrap().len(), 1);
 }
+
+/// A pressure pushes into the body: on each side of the rectangle [0, 2] × [0, 1] m the weights
+/// w_a = −∫ N_a n ds point inward, lie along the side's normal only, and add up to the side's
+/// length (exactly the sum of the lines' halves; 1e-12 for the round-off of the coordinates).
+/// The same on the Q4 and mixed meshes, whose elements number their edges differently. A curve
+/// inside the body has no outward side and is refused naming the group and the line.
+#[test]
+fn a_pressure_pushes_into_the_body_on_every_side() {
+    for name in ["rect_tri.msh", "rect_quad.msh", "rect_mixed.msh"] {
+        let mesh = read(name);
+        for (side, inward, length) in [
+            ("bottom", Vector2::new(0.0, 1.0), 2.0),
+            ("right", Vector2::new(-1.0, 0.0), 1.0),
+            ("top", Vector2::new(0.0, -1.0), 2.0),
+            ("left", Vector2::new(1.0, 0.0), 1.0),
+        ] {
+            let (nodes, w) = mesh.pressure_weights(side).unwrap();
+            assert_eq!(nodes.len(), w.len());
+            let mut total = Vector2::zeros();
+            for wa in &w {
+                // along the inward normal only, never outward
+                assert!(wa.dot(&inward) > 0.0, "{name} {side}: {wa:?}");
+                assert!(
+                    (wa - inward * wa.dot(&inward)).norm() <= 1e-15,
+                    "{name} {side}: {wa:?}"
+                );
+                total += wa;
+            }
+            assert!(
+                (total - inward * length).norm() <= 1e-12,
+                "{name} {side}: {total:?}"
+            );
+        }
+        match mesh.pressure_weights("interface") {
+            Err(e @ MeshError::NotOuter { elements: 2, .. }) => {
+                assert!(e.to_string().contains("\"interface\""), "{e}");
+            }
+            other => panic!("{name}: expected NotOuter, got {other:?}"),
+        }
+    }
+}

@@ -713,3 +713,76 @@ fn boundary_conditions_take_any_curve_of_the_mesh() {
         "{e}"
     );
 }
+
+/// The energy, probe and face records of two runs, compared bit for bit.
+fn same_records(a: &fem::RunOutput, b: &fem::RunOutput, what: &str) {
+    let key = |o: &fem::RunOutput| {
+        (
+            o.energy
+                .iter()
+                .map(|e| (e.boundary_work, e.strain, e.kinetic))
+                .collect::<Vec<_>>(),
+            o.probes.iter().map(|p| (p.ux, p.uy)).collect::<Vec<_>>(),
+            o.faces
+                .iter()
+                .map(|f| (f.penetration, f.normal_traction))
+                .collect::<Vec<_>>(),
+        )
+    };
+    assert!(
+        a.energy.last().unwrap().boundary_work.abs() > 0.0,
+        "{what}: no work"
+    );
+    assert!(key(a) == key(b), "{what}: the records differ");
+}
+
+/// A pressure on a straight side is the traction −p n: on the grid's top (the pressed blocks) and
+/// on the bimaterial mesh's left side, the pressure's nodal forces are the traction's to the bit
+/// (both are half lengths of the same edges, summed in the same order), so the runs are
+/// identical. The sign is what a pressure means: it pushes into the body (a sign error would pull
+/// the blocks apart and show at once). A pressure on a curve inside the body has no outward side
+/// and is refused naming the key.
+#[test]
+fn a_pressure_on_a_straight_side_is_the_inward_traction() {
+    let blocks = scene_text("tiny-fem-pressed-blocks");
+    let traction =
+        "y = { kind = \"traction\", initial = 0.0, final = -0.1e6, ramp_start = 0.0, ramp_end = 0.002 }";
+    assert!(blocks.contains(traction));
+    let pressed = blocks.replace(
+        traction,
+        "pressure = { initial = 0.0, final = 0.1e6, ramp_start = 0.0, ramp_end = 0.002 }",
+    );
+    let (a, b) = (
+        fem::run(&Scene::from_toml_str(&blocks).unwrap()).unwrap(),
+        fem::run(&Scene::from_toml_str(&pressed).unwrap()).unwrap(),
+    );
+    same_records(&a, &b, "pressed blocks");
+    let bar = |edit: Option<&str>| {
+        let text = scene_text("tiny-fem-bimaterial");
+        let traction =
+            "x = { kind = \"traction\", initial = 0.0, final = 0.1e6, ramp_start = 0.0, ramp_end = 2e-4 }";
+        assert!(text.contains(traction));
+        let text = match edit {
+            Some(e) => text.replace(traction, e),
+            None => text,
+        };
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+        Scene::from_toml_str_in(&text, &dir)
+    };
+    let pressure = "pressure = { initial = 0.0, final = 0.1e6, ramp_start = 0.0, ramp_end = 2e-4 }";
+    let (a, b) = (
+        fem::run(&bar(None).unwrap()).unwrap(),
+        fem::run(&bar(Some(pressure)).unwrap()).unwrap(),
+    );
+    same_records(&a, &b, "bimaterial bar");
+    // on the bar's joint (a curve between two elements)
+    let text = scene_text("tiny-fem-bimaterial")
+        + "\n[fem.boundary.joint]\npressure = { initial = 0.0, final = 1.0, ramp_start = 0.0, ramp_end = 0.0 }\n";
+    let e = Scene::from_toml_str_in(&text, &Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("fem.boundary.joint.pressure") && e.contains("outer boundary"),
+        "{e}"
+    );
+}

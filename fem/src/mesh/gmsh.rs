@@ -155,6 +155,19 @@ pub enum MeshError {
         /// Line element tag.
         other: u64,
     },
+    /// A line of a pressure curve that is not on the outer boundary.
+    #[error(
+        "physical group \"{group}\": line {line} has {elements} bulk elements beside it; a pressure \
+         acts on a curve of the outer boundary (one element per line)"
+    )]
+    NotOuter {
+        /// Group name.
+        group: String,
+        /// Line element tag.
+        line: u64,
+        /// Bulk elements on the line's edge (0 or 2).
+        elements: usize,
+    },
     /// A line of an interface with a bulk element on one side only.
     #[error(
         "physical group \"{group}\": line {line} has a bulk element on one side only (element \
@@ -250,6 +263,20 @@ pub struct PhysicalGroup {
     pub elements: Vec<usize>,
     /// Node indices of the group, ascending and unique.
     pub nodes: Vec<usize>,
+}
+
+impl PhysicalGroup {
+    /// Adds `value` to the entries of `per_node` (one per node of the group, in its order) of the
+    /// line ends `ends`.
+    pub fn add_to_ends<T: std::ops::AddAssign + Copy>(&self, ends: [usize; 2], value: T, per_node: &mut [T]) {
+        for n in ends {
+            let k = self
+                .nodes
+                .binary_search(&n)
+                .expect("invariant: a group lists its lines' nodes");
+            per_node[k] += value;
+        }
+    }
 }
 
 /// A validated 2D mesh of T3 and Q4 elements with its line elements and physical groups.
@@ -404,6 +431,36 @@ impl UnstructuredMesh {
     /// Area of bulk element `e` [m²], positive for a counter-clockwise element.
     pub fn area(&self, e: usize) -> f64 {
         signed_area(&self.elements[e].nodes, &self.positions)
+    }
+
+    /// The nodes of the physical curve `name` and, per node, the vector w_a = −∫ N_a n ds [m] over
+    /// its line elements (n the outward unit normal, N_a the node's linear shape function along the
+    /// line): a pressure p [Pa] pushing on the curve, t = −p n, gives the consistent nodal forces
+    /// f_a = p w_a [N/m]. Each line must be on the outer boundary (one bulk element beside it),
+    /// which fixes its outward side whatever the line's direction.
+    pub fn pressure_weights(&self, name: &str) -> Result<(Vec<usize>, Vec<Vector2<f64>>), MeshError> {
+        let g = self.group_of_dim(name, 1, "a boundary part is a physical curve (dimension 1)")?;
+        let edges = self.edge_map();
+        let mut w = vec![Vector2::zeros(); g.nodes.len()];
+        for &l in &g.elements {
+            let [a, b] = self.lines[l].nodes;
+            let faces = edges.get(&key(a, b)).map_or(&[][..], |f| f.as_slice());
+            let [face] = faces else {
+                return Err(MeshError::NotOuter {
+                    group: name.to_string(),
+                    line: self.lines[l].tag,
+                    elements: faces.len(),
+                });
+            };
+            // the element runs counter-clockwise, so its edge p → q has the body on its left and
+            // the outward normal times the length is (d_y, −d_x)
+            let el = &self.elements[face.element].nodes;
+            let (p, q) = (el[face.local_edge], el[(face.local_edge + 1) % el.len()]);
+            let d = self.positions[q] - self.positions[p];
+            let half = -0.5 * Vector2::new(d.y, -d.x);
+            g.add_to_ends([a, b], half, &mut w);
+        }
+        Ok((g.nodes.clone(), w))
     }
 
     /// Bulk elements on each edge: key (smaller node, larger node) → (element, local edge).

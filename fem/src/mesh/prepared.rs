@@ -100,13 +100,7 @@ impl PreparedMesh {
         for &l in &g.elements {
             let [a, b] = self.mesh.lines[l].nodes;
             let half = 0.5 * (self.mesh.positions[b] - self.mesh.positions[a]).norm();
-            for n in [a, b] {
-                let k = g
-                    .nodes
-                    .binary_search(&n)
-                    .expect("invariant: a group lists its lines' nodes");
-                weight[k] += half;
-            }
+            g.add_to_ends([a, b], half, &mut weight);
         }
         Ok((g.nodes.iter().map(|&n| n as u32).collect(), weight))
     }

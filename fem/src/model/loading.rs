@@ -115,12 +115,21 @@ fn westergaard_on(scene: &Scene, nodes: impl Iterator<Item = (usize, Vector2<f64
 pub(crate) fn boundary_on_mesh(scene: &Scene, mesh: &PreparedMesh) -> BoundaryData {
     match &scene.fem.boundary {
         Some(b) => {
+            const CHECKED: &str = "invariant: the scene's boundary curves were checked against the mesh";
             let curves: Vec<_> = b
                 .curves
                 .iter()
                 .map(|c| {
-                    mesh.curve_nodes(&c.name)
-                        .expect("invariant: the scene's boundary curves were checked against the mesh")
+                    let (nodes, tributary) = mesh.curve_nodes(&c.name).expect(CHECKED);
+                    let pressure = match c.pressure {
+                        Some(_) => mesh.mesh.pressure_weights(&c.name).expect(CHECKED).1,
+                        None => Vec::new(),
+                    };
+                    CurveNodes {
+                        nodes,
+                        tributary,
+                        pressure: pressure.iter().map(|w| [w.x, w.y]).collect(),
+                    }
                 })
                 .collect();
             sidewise(b, &curves)
@@ -166,20 +175,39 @@ fn sidewise_grid(b: &BoundarySpec, grid: &Grid) -> BoundaryData {
                 .iter()
                 .position(|&s| s == c.name)
                 .expect("invariant: a grid scene's boundary names its sides only");
-            (nodes[k].clone(), tributary(grid, &nodes[k]))
+            let tributary = tributary(grid, &nodes[k]);
+            // −∫ N_a n ds on a straight side: its inward normal times the tributary length
+            let inward = [[0.0, 1.0], [-1.0, 0.0], [0.0, -1.0], [1.0, 0.0]][k];
+            let pressure = match c.pressure {
+                Some(_) => tributary.iter().map(|&w| inward.map(|i| i * w)).collect(),
+                None => Vec::new(),
+            };
+            CurveNodes {
+                nodes: nodes[k].clone(),
+                tributary,
+                pressure,
+            }
         })
         .collect();
     sidewise(b, &sides)
 }
 
-/// The conditions of `b` on its curves' (nodes, tributary lengths [m]), one per entry of
-/// `b.curves` and in that order: a later displacement replaces an earlier one at a shared node,
-/// and a traction does not act on a component a displacement holds.
-fn sidewise(b: &BoundarySpec, sides: &[(Vec<u32>, Vec<f64>)]) -> BoundaryData {
+/// A side or curve's nodes, their tributary lengths [m] and, with a pressure, their weights
+/// w_a = −∫ N_a n ds [m] (empty without one).
+struct CurveNodes {
+    nodes: Vec<u32>,
+    tributary: Vec<f64>,
+    pressure: Vec<[f64; 2]>,
+}
+
+/// The conditions of `b` on its curves' nodes, one per entry of `b.curves` and in that order: a
+/// later displacement replaces an earlier one at a shared node, and a traction or a pressure does
+/// not act on a component a displacement holds.
+fn sidewise(b: &BoundarySpec, sides: &[CurveNodes]) -> BoundaryData {
     let mut ramps = Vec::new();
     let mut presc_index: HashMap<(u32, u8), usize> = HashMap::new();
     let mut prescribed: Vec<BoundaryDof> = Vec::new();
-    for (s, (nodes, _)) in sides.iter().enumerate() {
+    for (s, CurveNodes { nodes, .. }) in sides.iter().enumerate() {
         for dof in 0..2u8 {
             let Some(c) = b.curves[s].components[dof as usize] else {
                 continue;
@@ -206,7 +234,13 @@ fn sidewise(b: &BoundarySpec, sides: &[(Vec<u32>, Vec<f64>)]) -> BoundaryData {
         }
     }
     let mut neumann = Vec::new();
-    for (s, (nodes, w)) in sides.iter().enumerate() {
+    for (
+        s,
+        CurveNodes {
+            nodes, tributary: w, ..
+        },
+    ) in sides.iter().enumerate()
+    {
         for dof in 0..2u8 {
             let Some(c) = b.curves[s].components[dof as usize] else {
                 continue;
@@ -218,6 +252,24 @@ fn sidewise(b: &BoundarySpec, sides: &[(Vec<u32>, Vec<f64>)]) -> BoundaryData {
             let k = (ramps.len() - 1) as u8;
             for (&n, &wn) in nodes.iter().zip(w) {
                 if wn > 0.0 && !presc_index.contains_key(&(n, dof)) {
+                    neumann.push(BoundaryDof {
+                        node: n,
+                        dof,
+                        terms: [(k, wn), (k, 0.0)],
+                    });
+                }
+            }
+        }
+    }
+    // pressures after the tractions, so that the tractions' forces keep their order
+    for (c, side) in b.curves.iter().zip(sides) {
+        let Some(ramp) = c.pressure else { continue };
+        ramps.push(ramp);
+        let k = (ramps.len() - 1) as u8;
+        for (&n, w) in side.nodes.iter().zip(&side.pressure) {
+            for dof in 0..2u8 {
+                let wn = w[dof as usize];
+                if wn != 0.0 && !presc_index.contains_key(&(n, dof)) {
                     neumann.push(BoundaryDof {
                         node: n,
                         dof,

@@ -1,9 +1,10 @@
-//! Side-wise boundary conditions of `[fem.boundary]`: per side and component, an imposed
-//! displacement [m] or traction [Pa] through the ramp of eq. (B.1).
+//! Side-wise boundary conditions of `[fem.boundary]`: per side or curve and component, an imposed
+//! displacement [m] or traction [Pa], and a pressure [Pa] along the outward normal, each through
+//! the ramp of eq. (B.1).
 
 use super::checks::{check, inconsistent, option};
 use super::problem::Ramp;
-use super::raw::{RawBoundary, RawBoundaryComponent, RawSide};
+use super::raw::{RawBoundary, RawBoundaryComponent, RawRamp, RawSide};
 use crate::error::SceneError;
 
 /// Kind of a boundary condition component.
@@ -27,8 +28,9 @@ pub struct BoundaryComponent {
 /// The sides of the built-in grid, in the order their conditions apply.
 pub const GRID_SIDES: [&str; 4] = ["bottom", "right", "top", "left"];
 
-/// At most this many sides or curves in `[fem.boundary]`.
-pub const MAX_CURVES: usize = 100;
+/// At most this many sides or curves in `[fem.boundary]` (each is up to three ramps of the
+/// loading, which a byte indexes).
+pub const MAX_CURVES: usize = 80;
 
 /// The conditions of one side of the grid, or of one physical curve of a mesh.
 #[derive(Debug, Clone, PartialEq)]
@@ -37,6 +39,9 @@ pub struct BoundaryCurve {
     pub name: String,
     /// Per component [x, y]: its condition, or `None` (free).
     pub components: [Option<BoundaryComponent>; 2],
+    /// A uniform pressure [Pa] along the outward normal (> 0 pushes into the body): consistent
+    /// nodal forces p ∫ N_a (−n) ds, on the components no displacement holds.
+    pub pressure: Option<Ramp>,
 }
 
 /// Boundary conditions replacing the Westergaard field; sides, curves or components not given
@@ -66,6 +71,20 @@ fn component(field: &str, c: &RawBoundaryComponent) -> Result<BoundaryComponent,
         ],
         "\"displacement\" [m] or \"traction\" [Pa]",
     )?;
+    let ramp = ramp(
+        field,
+        &RawRamp {
+            initial: c.initial,
+            final_: c.final_,
+            ramp_start: c.ramp_start,
+            ramp_end: c.ramp_end,
+        },
+    )?;
+    Ok(BoundaryComponent { kind, ramp })
+}
+
+/// A ramp of `[fem.boundary]`, its values checked under `field`.
+fn ramp(field: &str, c: &RawRamp) -> Result<Ramp, SceneError> {
     check(field, c.initial, true, "a finite number")?;
     check(field, c.final_, true, "a finite number")?;
     check(field, c.ramp_start, c.ramp_start >= 0.0, "ramp_start >= 0 s")?;
@@ -75,22 +94,27 @@ fn component(field: &str, c: &RawBoundaryComponent) -> Result<BoundaryComponent,
         c.ramp_end >= c.ramp_start,
         "ramp_end >= ramp_start",
     )?;
-    let ramp = Ramp {
+    Ok(Ramp {
         initial: c.initial,
         final_value: c.final_,
         ramp_start: c.ramp_start,
         ramp_end: c.ramp_end,
-    };
-    Ok(BoundaryComponent { kind, ramp })
+    })
 }
 
 fn side(name: &str, s: &RawSide) -> Result<BoundaryCurve, SceneError> {
     let key = |c: &str| format!("fem.boundary.{name}.{c}");
     let x = s.x.as_ref().map(|c| component(&key("x"), c)).transpose()?;
     let y = s.y.as_ref().map(|c| component(&key("y"), c)).transpose()?;
+    let pressure = s
+        .pressure
+        .as_ref()
+        .map(|p| ramp(&key("pressure"), p))
+        .transpose()?;
     Ok(BoundaryCurve {
         name: name.to_string(),
         components: [x, y],
+        pressure,
     })
 }
 

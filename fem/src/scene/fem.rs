@@ -251,9 +251,14 @@ fn mesh_boundary(f: &RawFem, crack: Option<&Crack>, m: &MeshSpec) -> Result<(), 
             }
         }
         Some(b) => {
-            for name in b.keys() {
+            for (name, side) in b {
                 p.curve_nodes(name)
                     .map_err(|e| inconsistent(format!("fem.boundary.{name}"), e.to_string()))?;
+                if side.pressure.is_some() {
+                    p.mesh
+                        .pressure_weights(name)
+                        .map_err(|e| inconsistent(format!("fem.boundary.{name}.pressure"), e.to_string()))?;
+                }
             }
         }
     }

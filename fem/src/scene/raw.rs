@@ -80,6 +80,8 @@ pub(crate) struct RawBoundaryComponent {
 pub(crate) struct RawSide {
     pub x: Option<RawBoundaryComponent>,
     pub y: Option<RawBoundaryComponent>,
+    /// A uniform pressure [Pa] along the outward normal, pushing into the body.
+    pub pressure: Option<RawRamp>,
 }
 
 /// `[fem.boundary]`: per side of the built-in grid (`bottom`, `right`, `top`, `left`) or per
