@@ -4,8 +4,8 @@
 //! `fem.output_interval` costs as much as a fine mesh.
 
 use crate::output::{
-    ContactMeanRecord, EnergyRecord, FaceRecord, FieldRecord, InterfaceRecord, KktRecord, ProbeRecord,
-    ProfileRecord, TipRecord,
+    ContactMeanRecord, CrackRecord, EnergyRecord, FaceRecord, FieldRecord, InterfaceRecord, KktRecord,
+    ProbeRecord, ProfileRecord, TipRecord,
 };
 use crate::scene::Scene;
 use preflight::budget::bytes_of;
@@ -95,8 +95,14 @@ pub fn estimate(scene: &Scene) -> Estimate {
         0.0
     };
     let d = &f.diagnostics;
+    // one crack record per chain (one on the grid)
+    let chains = match &f.mesh {
+        Some(m) => m.prepared.row.as_ref().map_or(0, |r| r.num_chains()),
+        None => usize::from(interface),
+    };
     let per_sample = row
         + (size_of::<TipRecord>() + size_of::<EnergyRecord>() + size_of::<ContactMeanRecord>()) as f64
+        + chains as f64 * size_of::<CrackRecord>() as f64
         + f.probes.len() as f64 * size_of::<ProbeRecord>() as f64
         + if d.kkt_metric {
             size_of::<KktRecord>() as f64
