@@ -369,6 +369,10 @@ impl RunOutput {
 }
 
 fn write<T: Serialize>(dir: &Path, name: &str, rows: &[T], out: &mut Vec<PathBuf>) -> io::Result<()> {
+    debug_assert!(
+        CSV_FILES.contains(&name),
+        "{name} missing from CSV_FILES (clear_previous)"
+    );
     let path = dir.join(name);
     let mut w = csv::Writer::from_path(&path).map_err(io::Error::other)?;
     for r in rows {

@@ -24,9 +24,7 @@ pub struct Recorder<'a> {
 impl Observer for Recorder<'_> {
     fn observe(&mut self, model: &Model, state: &State, ws: &Workspace) {
         let out = &mut *self.out;
-        if model.crack.is_some() {
-            out.tips.push(tips::tips(model, state));
-        }
+        out.tips.extend(tips::tips(model, state));
         tips::crack_records(model, state, &mut out.cracks);
         tips::interface_records(model, state, &mut out.interface);
         let mean = tractions::face_records(model, state, &mut out.faces);

@@ -45,19 +45,14 @@ fn walk(model: &Model, state: &State, order: impl Iterator<Item = (usize, usize)
     (tip, cz)
 }
 
-/// Tip record at the current state.
-pub(crate) fn tips(model: &Model, state: &State) -> TipRecord {
+/// Tip record at the current state; `None` without a pre-crack (no tips to speak of).
+pub(crate) fn tips(model: &Model, state: &State) -> Option<TipRecord> {
     let t = state.t;
-    let (Some(row), Some((xc, a))) = (&model.iface, model.crack) else {
-        let xc = model.crack.map_or(0.0, |c| c.0);
-        return TipRecord {
-            t,
-            tip_right: xc,
-            tip_left: xc,
-            cz_tip_right: xc,
-            cz_tip_left: xc,
-        };
-    };
+    let (xc, a) = model.crack?;
+    let row = model
+        .iface
+        .as_ref()
+        .expect("invariant: a pre-crack lies on the interface row");
     let nf = row.num_facets();
     // the tips are those of the chain that holds the pre-crack (its first facet's chain)
     let chain_of = |c: usize| row.chain[row.facet_columns(c)[0]];
@@ -79,13 +74,13 @@ pub(crate) fn tips(model: &Model, state: &State) -> TipRecord {
             xc - a,
         )
     });
-    TipRecord {
+    Some(TipRecord {
         t,
         tip_right: right.0,
         tip_left: left.0,
         cz_tip_right: right.1,
         cz_tip_left: left.1,
-    }
+    })
 }
 
 /// The cracked extent of every chain: one record per chain, in chain order. Each Gauss point of

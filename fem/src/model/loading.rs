@@ -207,9 +207,9 @@ fn sidewise(b: &BoundarySpec, sides: &[CurveNodes]) -> BoundaryData {
     let mut ramps = Vec::new();
     let mut presc_index: HashMap<(u32, u8), usize> = HashMap::new();
     let mut prescribed: Vec<BoundaryDof> = Vec::new();
-    for (s, CurveNodes { nodes, .. }) in sides.iter().enumerate() {
+    for (curve, side) in b.curves.iter().zip(sides) {
         for dof in 0..2u8 {
-            let Some(c) = b.curves[s].components[dof as usize] else {
+            let Some(c) = curve.components[dof as usize] else {
                 continue;
             };
             if c.kind != BoundaryKind::Displacement {
@@ -217,7 +217,7 @@ fn sidewise(b: &BoundarySpec, sides: &[CurveNodes]) -> BoundaryData {
             }
             ramps.push(c.ramp);
             let k = (ramps.len() - 1) as u8;
-            for &n in nodes {
+            for &n in &side.nodes {
                 let entry = BoundaryDof {
                     node: n,
                     dof,
@@ -234,15 +234,9 @@ fn sidewise(b: &BoundarySpec, sides: &[CurveNodes]) -> BoundaryData {
         }
     }
     let mut neumann = Vec::new();
-    for (
-        s,
-        CurveNodes {
-            nodes, tributary: w, ..
-        },
-    ) in sides.iter().enumerate()
-    {
+    for (curve, side) in b.curves.iter().zip(sides) {
         for dof in 0..2u8 {
-            let Some(c) = b.curves[s].components[dof as usize] else {
+            let Some(c) = curve.components[dof as usize] else {
                 continue;
             };
             if c.kind != BoundaryKind::Traction {
@@ -250,7 +244,7 @@ fn sidewise(b: &BoundarySpec, sides: &[CurveNodes]) -> BoundaryData {
             }
             ramps.push(c.ramp);
             let k = (ramps.len() - 1) as u8;
-            for (&n, &wn) in nodes.iter().zip(w) {
+            for (&n, &wn) in side.nodes.iter().zip(&side.tributary) {
                 if wn > 0.0 && !presc_index.contains_key(&(n, dof)) {
                     neumann.push(BoundaryDof {
                         node: n,
@@ -262,8 +256,8 @@ fn sidewise(b: &BoundarySpec, sides: &[CurveNodes]) -> BoundaryData {
         }
     }
     // pressures after the tractions, so that the tractions' forces keep their order
-    for (c, side) in b.curves.iter().zip(sides) {
-        let Some(ramp) = c.pressure else { continue };
+    for (curve, side) in b.curves.iter().zip(sides) {
+        let Some(ramp) = curve.pressure else { continue };
         ramps.push(ramp);
         let k = (ramps.len() - 1) as u8;
         for (&n, w) in side.nodes.iter().zip(&side.pressure) {

@@ -53,13 +53,6 @@ pub struct BoundarySpec {
     pub curves: Vec<BoundaryCurve>,
 }
 
-impl BoundarySpec {
-    /// The conditions of the side or curve `name` (`None`: not given).
-    pub fn curve(&self, name: &str) -> Option<&BoundaryCurve> {
-        self.curves.iter().find(|c| c.name == name)
-    }
-}
-
 fn component(field: &str, c: &RawBoundaryComponent) -> Result<BoundaryComponent, SceneError> {
     let kind = option(
         field,
