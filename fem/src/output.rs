@@ -43,6 +43,27 @@ pub struct CrackRecord {
     pub broken_to: f64,
 }
 
+/// The displacement of one part of `[fem.boundary]` (a side, curve or point) and the force its
+/// conditions apply to the body, at one sample: a load–displacement curve for any part.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct BoundaryRecord {
+    /// Time [s].
+    pub t: f64,
+    /// The part, as an index into [`RunOutput::boundary_parts`] [-].
+    pub part: u16,
+    /// Mean displacement of the part's nodes [m].
+    pub ux: f64,
+    /// Mean displacement of the part's nodes [m].
+    pub uy: f64,
+    /// Total force on the part's nodes [N/m]: on a component a displacement holds, the static
+    /// reaction R = −f (the force the support applies against the internal, cohesive and contact
+    /// forces of the node; its own inertia m ā is not in it); on a loaded component, the applied
+    /// traction, force or pressure. A node and component held by two parts counts for the last.
+    pub fx: f64,
+    /// Total force on the part's nodes [N/m] (as `fx`).
+    pub fy: f64,
+}
+
 /// Damage at one interface Gauss point.
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct InterfaceRecord {
@@ -314,6 +335,11 @@ pub struct RunOutput {
     pub friction: Vec<FrictionRecord>,
     /// Probe histories.
     pub probes: Vec<ProbeRecord>,
+    /// Names of the parts of `[fem.boundary]`, in the order they apply (empty with the
+    /// Westergaard field).
+    pub boundary_parts: Vec<String>,
+    /// Displacement and force per part of `[fem.boundary]` per sample.
+    pub boundary: Vec<BoundaryRecord>,
     /// Residual stress of eq. (17) per sample (only with `residual_stress_x`).
     pub residual_stress: Vec<ResidualStressRecord>,
     /// KKT conditions per sample (only with `kkt_metric`).
@@ -383,8 +409,34 @@ fn write<T: Serialize>(dir: &Path, name: &str, rows: &[T], out: &mut Vec<PathBuf
     Ok(())
 }
 
+/// A row of boundary.csv: a [`BoundaryRecord`] with its part by name.
+#[derive(Serialize)]
+struct BoundaryRow<'a> {
+    t: f64,
+    part: &'a str,
+    ux: f64,
+    uy: f64,
+    fx: f64,
+    fy: f64,
+}
+
+fn boundary_rows(output: &RunOutput) -> Vec<BoundaryRow<'_>> {
+    output
+        .boundary
+        .iter()
+        .map(|r| BoundaryRow {
+            t: r.t,
+            part: &output.boundary_parts[r.part as usize],
+            ux: r.ux,
+            uy: r.uy,
+            fx: r.fx,
+            fy: r.fy,
+        })
+        .collect()
+}
+
 /// Every CSV file [`write_csv`] may write: a run writes a subset, depending on the scene.
-pub const CSV_FILES: [&str; 14] = [
+pub const CSV_FILES: [&str; 15] = [
     "run.csv",
     "tips.csv",
     "cracks.csv",
@@ -394,6 +446,7 @@ pub const CSV_FILES: [&str; 14] = [
     "energy.csv",
     "arrivals.csv",
     "probes.csv",
+    "boundary.csv",
     "friction.csv",
     "residual_stress.csv",
     "kkt.csv",
@@ -424,7 +477,8 @@ pub fn clear_previous(dir: &Path) -> io::Result<usize> {
 }
 
 /// Writes run.csv, tips.csv (with a pre-crack), cracks.csv (with an interface), interface.csv,
-/// faces.csv, contact.csv, energy.csv, arrivals.csv, probes.csv, friction.csv (with friction) and, when declared, residual_stress.csv, kkt.csv,
+/// faces.csv, contact.csv, energy.csv, arrivals.csv, probes.csv, boundary.csv (with
+/// `[fem.boundary]`), friction.csv (with friction) and, when declared, residual_stress.csv, kkt.csv,
 /// field.csv, profile.csv into `dir`.
 pub fn write_csv(output: &RunOutput, dir: &Path) -> io::Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir)?;
@@ -450,6 +504,9 @@ pub fn write_csv(output: &RunOutput, dir: &Path) -> io::Result<Vec<PathBuf>> {
             write(dir, "energy.csv", &output.energy, &mut out)?;
             write(dir, "arrivals.csv", &output.arrivals, &mut out)?;
             write(dir, "probes.csv", &output.probes, &mut out)?;
+            if !output.boundary.is_empty() {
+                write(dir, "boundary.csv", &boundary_rows(output), &mut out)?;
+            }
             if !output.friction.is_empty() {
                 write(dir, "friction.csv", &output.friction, &mut out)?;
             }

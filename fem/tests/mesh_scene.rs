@@ -697,7 +697,7 @@ fn boundary_conditions_take_any_curve_of_the_mesh() {
         );
     }
     // the curve's own key in an error of its component
-    let e = refused(&own.replacen("kind = \"displacement\"", "kind = \"force\"", 1));
+    let e = refused(&own.replacen("kind = \"displacement\"", "kind = \"velocity\"", 1));
     assert!(
         e.contains("fem.boundary.foundation.x") && e.contains("traction"),
         "{e}"
@@ -783,6 +783,84 @@ fn a_pressure_on_a_straight_side_is_the_inward_traction() {
         .to_string();
     assert!(
         e.contains("fem.boundary.joint.pressure") && e.contains("outer boundary"),
+        "{e}"
+    );
+}
+
+/// `[fem.boundary.NAME]` on a physical point of the mesh: a displacement holds its node, a force
+/// [N/m] loads it, and `boundary.csv` reports each part. The wrong kind of condition for the kind
+/// of part is refused naming the key: a traction or a pressure on a point (they need a length), a
+/// force on a curve or on the grid's sides; so is a point on a node the interface splits (it would
+/// hold one side of the crack only).
+#[test]
+fn points_take_supports_and_forces_and_the_wrong_conditions_are_refused() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+    let beam = scene_text("tiny-fem-beam-bending").replace("duration = 0.36 ", "duration = 0.01 ");
+    let scene = |text: &str| Scene::from_toml_str_in(text, &dir);
+    let out = fem::run(&scene(&beam).unwrap()).unwrap();
+    assert_eq!(out.boundary_parts, ["load", "support_left", "support_right"]);
+    let samples = out.energy.len();
+    assert_eq!(out.boundary.len(), 3 * samples, "one record per part per sample");
+    let last = &out.boundary[out.boundary.len() - 3..];
+    // the load part: one node, its force as the ramp gives it; the supports hold their nodes
+    let ramp = -1000.0
+        * fem::scene::Ramp {
+            initial: 0.0,
+            final_value: 1.0,
+            ramp_start: 0.0,
+            ramp_end: 0.25,
+        }
+        .value(last[0].t);
+    assert!(
+        (last[0].fy - ramp).abs() <= 1e-12 * ramp.abs(),
+        "{} vs {ramp}",
+        last[0].fy
+    );
+    assert!(last[0].uy < 0.0, "the load point moves down: {}", last[0].uy);
+    assert_eq!((last[1].ux, last[1].uy, last[2].uy), (0.0, 0.0, 0.0));
+    // the reactions (which must balance the force once the beam is at rest) are the validation
+    // test fem_point_loads's
+    let force = "y = { kind = \"force\", initial = 0.0, final = -1000.0, ramp_start = 0.0, ramp_end = 0.25 }";
+    assert!(beam.contains(force));
+    let e = scene(&beam.replace(force, &force.replace("force", "traction")))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("fem.boundary.load.y.kind") && e.contains("physical point"),
+        "{e}"
+    );
+    let e = scene(&beam.replace(
+        force,
+        "pressure = { initial = 0.0, final = 1.0, ramp_start = 0.0, ramp_end = 0.0 }",
+    ))
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("fem.boundary.load.pressure") && e.contains("physical point"),
+        "{e}"
+    );
+    let e = scene(&format!("{beam}\n[fem.boundary.top]\n{force}\n"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("fem.boundary.top.y.kind") && e.contains("along a curve"),
+        "{e}"
+    );
+    let grid = scene_text("tiny-fem-cohesive-pull");
+    let traction = grid
+        .lines()
+        .find(|l| l.contains("kind = \"displacement\""))
+        .unwrap();
+    let e = scene(&grid.replacen(traction, &traction.replace("displacement", "force"), 1))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains(".kind") && e.contains("built-in grid"), "{e}");
+    // a point at the notch tip, where the ligament ends on the outer boundary and is split
+    let notched = scene_text("three-point-bend")
+        + "\n[fem.boundary.notch_tip]\nx = { kind = \"displacement\", initial = 0.0, final = 0.0, ramp_start = 0.0, ramp_end = 0.0 }\n";
+    let e = scene(&notched).unwrap_err().to_string();
+    assert!(
+        e.contains("fem.boundary.notch_tip") && e.contains("interface"),
         "{e}"
     );
 }

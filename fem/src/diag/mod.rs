@@ -7,7 +7,8 @@ pub(crate) mod tips;
 pub(crate) mod tractions;
 
 use crate::model::state::{Model, State, Workspace};
-use crate::output::{ProbeRecord, ResidualStressRecord, RunOutput};
+use crate::output::{BoundaryRecord, ProbeRecord, ResidualStressRecord, RunOutput};
+use nalgebra::Vector2;
 
 /// An observer of sampled states.
 pub trait Observer {
@@ -33,6 +34,7 @@ impl Observer for Recorder<'_> {
         }
         out.energy.push(energy::record(model, state, ws));
         section4(model, state, out);
+        boundary_records(model, state, &mut out.boundary);
         for (k, &n) in model.probes.iter().enumerate() {
             let n = n as usize;
             let (x, u, v) = (model.x0[n], state.u[n], state.v[n]);
@@ -47,6 +49,35 @@ impl Observer for Recorder<'_> {
                 vy: v.y,
             });
         }
+    }
+}
+
+/// One record per part of `[fem.boundary]`: the mean displacement of its nodes and the sum of the
+/// reactions and loads of the DOFs it holds or loads, each summed in the DOFs' fixed order.
+fn boundary_records(model: &Model, state: &State, out: &mut Vec<BoundaryRecord>) {
+    let parts = &model.boundary_parts;
+    let first = out.len();
+    for (k, nodes) in parts.nodes.iter().enumerate() {
+        let u: Vector2<f64> = nodes.iter().map(|&n| state.u[n as usize]).sum();
+        let u = u / nodes.len().max(1) as f64;
+        out.push(BoundaryRecord {
+            t: state.t,
+            part: k as u16,
+            ux: u.x,
+            uy: u.y,
+            fx: 0.0,
+            fy: 0.0,
+        });
+    }
+    let mut add = |part: u16, dof: u8, f: f64| {
+        let r = &mut out[first + part as usize];
+        if dof == 0 { r.fx += f } else { r.fy += f }
+    };
+    for ((p, &part), &r) in model.prescribed.iter().zip(&parts.prescribed).zip(&state.presc_r) {
+        add(part, p.dof, r);
+    }
+    for ((p, &part), &f) in model.neumann.iter().zip(&parts.neumann).zip(&state.neumann_f) {
+        add(part, p.dof, f);
     }
 }
 

@@ -209,6 +209,23 @@ pub enum MeshError {
         /// Node position [m].
         y: f64,
     },
+    /// A physical point on a node that the interface splits in two: a condition there would
+    /// hold one side of the crack only.
+    #[error(
+        "physical point \"{group}\": node {node} ({x}, {y}) m lies on an interface, whose nodes are \
+         split in two at set-up; a point condition there would hold one side only: move the point \
+         off the interface"
+    )]
+    PointOnInterface {
+        /// Group name.
+        group: String,
+        /// Node tag.
+        node: u64,
+        /// Node position [m].
+        x: f64,
+        /// Node position [m].
+        y: f64,
+    },
     /// Two chains given to [`split_interface`] meet at a node.
     #[error("two interface chains share node {0} without a junction there (three or more lines)")]
     ChainsMeet(u64),

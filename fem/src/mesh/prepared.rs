@@ -38,6 +38,17 @@ pub struct RoleError {
     pub error: MeshError,
 }
 
+/// The nodes of a boundary part (`[fem.boundary.NAME]`) of a mesh.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BoundaryNodes {
+    /// Node indices, ascending.
+    pub nodes: Vec<u32>,
+    /// Per node: its tributary length [m] on a curve, 1 on a point [-].
+    pub weight: Vec<f64>,
+    /// The part is a physical point (dimension 0), not a curve.
+    pub point: bool,
+}
+
 /// A mesh split along its interface, with the data the model is built from.
 #[derive(Debug, Clone)]
 pub struct PreparedMesh {
@@ -90,12 +101,56 @@ impl PreparedMesh {
         Some((min, row.length.iter().sum::<f64>() / row.num_facets() as f64))
     }
 
+    /// Nodes of the boundary part `name` and, per node, the weight of a load on it: on a physical
+    /// curve the node's tributary length [m] (half of each adjacent line element of the group), on
+    /// a physical point 1 (each point carries the whole force given). A point must not lie on a
+    /// node the interface splits.
+    pub fn boundary_nodes(&self, name: &str) -> Result<BoundaryNodes, MeshError> {
+        let g = self.mesh.group(name)?;
+        match g.dim {
+            0 => {
+                let split: HashSet<u32> = self.row.as_ref().map_or_else(HashSet::new, |row| {
+                    row.minus
+                        .iter()
+                        .zip(&row.plus)
+                        .filter(|(m, p)| m != p)
+                        .flat_map(|(&m, &p)| [m, p])
+                        .collect()
+                });
+                if let Some(&n) = g.nodes.iter().find(|&&n| split.contains(&(n as u32))) {
+                    let x = self.mesh.positions[n];
+                    return Err(MeshError::PointOnInterface {
+                        group: name.to_string(),
+                        node: self.mesh.node_tags[n],
+                        x: x.x,
+                        y: x.y,
+                    });
+                }
+                Ok(BoundaryNodes {
+                    nodes: g.nodes.iter().map(|&n| n as u32).collect(),
+                    weight: vec![1.0; g.nodes.len()],
+                    point: true,
+                })
+            }
+            _ => {
+                let (nodes, weight) = self.curve_nodes(name)?;
+                Ok(BoundaryNodes {
+                    nodes,
+                    weight,
+                    point: false,
+                })
+            }
+        }
+    }
+
     /// Nodes of the physical curve `name` and, per node, its tributary length [m] (half of each
     /// adjacent line element of the group).
     pub fn curve_nodes(&self, name: &str) -> Result<(Vec<u32>, Vec<f64>), MeshError> {
-        let g = self
-            .mesh
-            .group_of_dim(name, 1, "a boundary part is a physical curve (dimension 1)")?;
+        let g = self.mesh.group_of_dim(
+            name,
+            1,
+            "a boundary part is a physical curve (dimension 1) or point (dimension 0)",
+        )?;
         let mut weight = vec![0.0; g.nodes.len()];
         for &l in &g.elements {
             let [a, b] = self.mesh.lines[l].nodes;

@@ -4,16 +4,18 @@
 
 use crate::mesh::prepared::PreparedMesh;
 use crate::mesh::structured::{Grid, LayerSide};
-use crate::model::state::BoundaryDof;
+use crate::model::state::{BoundaryDof, BoundaryParts};
 use crate::scene::{BoundaryKind, BoundarySpec, GRID_SIDES, Ramp, Scene};
 use nalgebra::{Complex, Vector2};
 use std::collections::HashMap;
 
-/// Boundary data: ramps, prescribed DOFs, Neumann DOFs (nodal forces [N/m]).
+/// Boundary data: ramps, prescribed DOFs, Neumann DOFs (nodal forces [N/m]) and, with
+/// `[fem.boundary]`, its parts (sides, curves, points) and which part each DOF belongs to.
 pub(crate) struct BoundaryData {
     pub ramps: Vec<Ramp>,
     pub prescribed: Vec<BoundaryDof>,
     pub neumann: Vec<BoundaryDof>,
+    pub parts: BoundaryParts,
 }
 
 /// Optional terms of the Westergaard boundary field.
@@ -107,6 +109,7 @@ fn westergaard_on(scene: &Scene, nodes: impl Iterator<Item = (usize, Vector2<f64
         ramps,
         prescribed,
         neumann: Vec::new(),
+        parts: BoundaryParts::default(),
     }
 }
 
@@ -120,14 +123,14 @@ pub(crate) fn boundary_on_mesh(scene: &Scene, mesh: &PreparedMesh) -> BoundaryDa
                 .curves
                 .iter()
                 .map(|c| {
-                    let (nodes, tributary) = mesh.curve_nodes(&c.name).expect(CHECKED);
+                    let part = mesh.boundary_nodes(&c.name).expect(CHECKED);
                     let pressure = match c.pressure {
                         Some(_) => mesh.mesh.pressure_weights(&c.name).expect(CHECKED).1,
                         None => Vec::new(),
                     };
                     CurveNodes {
-                        nodes,
-                        tributary,
+                        nodes: part.nodes,
+                        tributary: part.weight,
                         pressure: pressure.iter().map(|w| [w.x, w.y]).collect(),
                     }
                 })
@@ -193,7 +196,7 @@ fn sidewise_grid(b: &BoundarySpec, grid: &Grid) -> BoundaryData {
 }
 
 /// A side or curve's nodes, their tributary lengths [m] and, with a pressure, their weights
-/// w_a = −∫ N_a n ds [m] (empty without one).
+/// w_a = −∫ N_a n ds [m] (empty without one); a point's nodes with weight 1.
 struct CurveNodes {
     nodes: Vec<u32>,
     tributary: Vec<f64>,
@@ -207,7 +210,14 @@ fn sidewise(b: &BoundarySpec, sides: &[CurveNodes]) -> BoundaryData {
     let mut ramps = Vec::new();
     let mut presc_index: HashMap<(u32, u8), usize> = HashMap::new();
     let mut prescribed: Vec<BoundaryDof> = Vec::new();
-    for (curve, side) in b.curves.iter().zip(sides) {
+    let mut parts = BoundaryParts {
+        names: b.curves.iter().map(|c| c.name.clone()).collect(),
+        nodes: sides.iter().map(|s| s.nodes.clone()).collect(),
+        ..BoundaryParts::default()
+    };
+    // at most MAX_CURVES parts (checked at validation)
+    for (part, (curve, side)) in b.curves.iter().zip(sides).enumerate() {
+        let part = part as u16;
         for dof in 0..2u8 {
             let Some(c) = curve.components[dof as usize] else {
                 continue;
@@ -224,22 +234,28 @@ fn sidewise(b: &BoundarySpec, sides: &[CurveNodes]) -> BoundaryData {
                     terms: [(k, 1.0), (k, 0.0)],
                 };
                 match presc_index.get(&(n, dof)) {
-                    Some(&i) => prescribed[i] = entry,
+                    Some(&i) => {
+                        prescribed[i] = entry;
+                        parts.prescribed[i] = part;
+                    }
                     None => {
                         presc_index.insert((n, dof), prescribed.len());
                         prescribed.push(entry);
+                        parts.prescribed.push(part);
                     }
                 }
             }
         }
     }
     let mut neumann = Vec::new();
-    for (curve, side) in b.curves.iter().zip(sides) {
+    for (part, (curve, side)) in b.curves.iter().zip(sides).enumerate() {
         for dof in 0..2u8 {
             let Some(c) = curve.components[dof as usize] else {
                 continue;
             };
-            if c.kind != BoundaryKind::Traction {
+            // a traction along a side or curve (weight: tributary length), a force on a point
+            // (weight 1); validation keeps each to its kind of part
+            if c.kind == BoundaryKind::Displacement {
                 continue;
             }
             ramps.push(c.ramp);
@@ -251,12 +267,13 @@ fn sidewise(b: &BoundarySpec, sides: &[CurveNodes]) -> BoundaryData {
                         dof,
                         terms: [(k, wn), (k, 0.0)],
                     });
+                    parts.neumann.push(part as u16);
                 }
             }
         }
     }
     // pressures after the tractions, so that the tractions' forces keep their order
-    for (curve, side) in b.curves.iter().zip(sides) {
+    for (part, (curve, side)) in b.curves.iter().zip(sides).enumerate() {
         let Some(ramp) = curve.pressure else { continue };
         ramps.push(ramp);
         let k = (ramps.len() - 1) as u8;
@@ -269,6 +286,7 @@ fn sidewise(b: &BoundarySpec, sides: &[CurveNodes]) -> BoundaryData {
                         dof,
                         terms: [(k, wn), (k, 0.0)],
                     });
+                    parts.neumann.push(part as u16);
                 }
             }
         }
@@ -277,6 +295,7 @@ fn sidewise(b: &BoundarySpec, sides: &[CurveNodes]) -> BoundaryData {
         ramps,
         prescribed,
         neumann,
+        parts,
     }
 }
 

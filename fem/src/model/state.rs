@@ -29,6 +29,20 @@ impl BoundaryDof {
     }
 }
 
+/// The parts of `[fem.boundary]` as `boundary.csv` reports them (empty with the Westergaard field).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct BoundaryParts {
+    /// Name of each part, in the order the conditions apply.
+    pub names: Vec<String>,
+    /// Nodes of each part (a node shared by two parts is in both).
+    pub nodes: Vec<Vec<u32>>,
+    /// Per entry of `Model::prescribed`: the part whose condition holds it (the last one
+    /// that names the node and component).
+    pub prescribed: Vec<u16>,
+    /// Per entry of `Model::neumann`: the part whose load it is.
+    pub neumann: Vec<u16>,
+}
+
 /// The model: mesh, topology, parameters. Immutable during the run.
 #[derive(Debug)]
 pub struct Model {
@@ -67,6 +81,8 @@ pub struct Model {
     pub(crate) ramps: Vec<Ramp>,
     pub(crate) prescribed: Vec<BoundaryDof>,
     pub(crate) neumann: Vec<BoundaryDof>,
+    /// The parts of `[fem.boundary]` and which part each prescribed and Neumann DOF belongs to.
+    pub(crate) boundary_parts: BoundaryParts,
     /// Per layer: kept out of the one-pass sweep of unsampled steps (`solver::sweep`).
     pub(crate) deferred: Vec<bool>,
     /// Per node and component (x, y): the DOF is prescribed.

@@ -1,6 +1,6 @@
-//! Side-wise boundary conditions of `[fem.boundary]`: per side or curve and component, an imposed
-//! displacement [m] or traction [Pa], and a pressure [Pa] along the outward normal, each through
-//! the ramp of eq. (B.1).
+//! Side-wise boundary conditions of `[fem.boundary]`: per side, curve or point and component, an
+//! imposed displacement [m], traction [Pa] (sides and curves) or force [N/m] (points), and on a
+//! side or curve a pressure [Pa] along the outward normal, each through the ramp of eq. (B.1).
 
 use super::checks::{check, inconsistent, option};
 use super::problem::Ramp;
@@ -14,6 +14,8 @@ pub enum BoundaryKind {
     Displacement,
     /// Imposed traction [Pa] (Neumann, consistent nodal forces), uniform along the side.
     Traction,
+    /// Imposed force [N/m] (per unit thickness) on each node of a physical point of a mesh.
+    Force,
 }
 
 /// One component (x or y) of a side's boundary condition.
@@ -32,10 +34,10 @@ pub const GRID_SIDES: [&str; 4] = ["bottom", "right", "top", "left"];
 /// loading, which a byte indexes).
 pub const MAX_CURVES: usize = 80;
 
-/// The conditions of one side of the grid, or of one physical curve of a mesh.
+/// The conditions of one side of the grid, or of one physical curve or point of a mesh.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BoundaryCurve {
-    /// The side (`bottom`, `right`, `top`, `left`) or the mesh's physical curve.
+    /// The side (`bottom`, `right`, `top`, `left`) or the mesh's physical curve or point.
     pub name: String,
     /// Per component [x, y]: its condition, or `None` (free).
     pub components: [Option<BoundaryComponent>; 2],
@@ -61,8 +63,9 @@ fn component(field: &str, c: &RawBoundaryComponent) -> Result<BoundaryComponent,
         &[
             ("displacement", BoundaryKind::Displacement),
             ("traction", BoundaryKind::Traction),
+            ("force", BoundaryKind::Force),
         ],
-        "\"displacement\" [m] or \"traction\" [Pa]",
+        "\"displacement\" [m], \"traction\" [Pa] (on a curve) or \"force\" [N/m] (on a physical point)",
     )?;
     let ramp = ramp(
         field,

@@ -1,6 +1,6 @@
 //! The `[fem]` section: discretisation, model options, boundary conditions.
 
-use super::boundary::{BoundarySpec, GRID_SIDES, boundary};
+use super::boundary::{BoundaryKind, BoundarySpec, GRID_SIDES, boundary};
 use super::checks::{check, inconsistent, keep, option};
 use super::damping::{Damping, damping};
 use super::diagnostics::{Diagnostics, diagnostics};
@@ -224,7 +224,8 @@ pub(crate) fn validate_fem(
 }
 
 /// With a mesh: the Westergaard field needs a straight pre-crack on y = 0, and each side of
-/// `[fem.boundary]` applies to the physical curve of the same name.
+/// `[fem.boundary]` applies to the physical curve or point of the same name: a traction or a
+/// pressure along a curve, a force on a point.
 fn mesh_boundary(f: &RawFem, crack: Option<&Crack>, m: &MeshSpec) -> Result<(), SceneError> {
     let p = &m.prepared;
     match &f.boundary {
@@ -252,8 +253,32 @@ fn mesh_boundary(f: &RawFem, crack: Option<&Crack>, m: &MeshSpec) -> Result<(), 
         }
         Some(b) => {
             for (name, side) in b {
-                p.curve_nodes(name)
+                let part = p
+                    .boundary_nodes(name)
                     .map_err(|e| inconsistent(format!("fem.boundary.{name}"), e.to_string()))?;
+                for (c, raw) in [("x", &side.x), ("y", &side.y)] {
+                    let Some(raw) = raw else { continue };
+                    let (wrong, why) = match (part.point, raw.kind.as_str()) {
+                        (true, "traction") => (
+                            true,
+                            "a traction [Pa] acts along a curve; on a physical point give \"force\" [N/m]",
+                        ),
+                        (false, "force") => (
+                            true,
+                            "a force [N/m] acts on a physical point; along a curve give \"traction\" [Pa]",
+                        ),
+                        _ => (false, ""),
+                    };
+                    if wrong {
+                        return Err(inconsistent(format!("fem.boundary.{name}.{c}.kind"), why));
+                    }
+                }
+                if part.point && side.pressure.is_some() {
+                    return Err(inconsistent(
+                        format!("fem.boundary.{name}.pressure"),
+                        format!("\"{name}\" is a physical point; a pressure acts along a curve"),
+                    ));
+                }
                 if side.pressure.is_some() {
                     p.mesh
                         .pressure_weights(name)
@@ -376,8 +401,19 @@ fn blocks_and_boundary(f: &RawFem, crack: Option<&Crack>) -> Result<(f64, Option
             return Err(inconsistent(
                 format!("fem.boundary.{}", c.name),
                 "the built-in grid's sides are bottom, right, top and left (other names are physical \
-                 curves of a [fem.mesh] file)",
+                 curves or points of a [fem.mesh] file)",
             ));
+        }
+        for c in &b.curves {
+            for (k, comp) in ["x", "y"].iter().zip(&c.components) {
+                if comp.is_some_and(|comp| comp.kind == BoundaryKind::Force) {
+                    return Err(inconsistent(
+                        format!("fem.boundary.{}.{k}.kind", c.name),
+                        "a force [N/m] acts on a physical point of a [fem.mesh] file; a side of the \
+                         built-in grid takes \"traction\" [Pa]",
+                    ));
+                }
+            }
         }
     }
     if boundary.is_none() && (crack.is_none() || full_width) {

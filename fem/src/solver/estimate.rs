@@ -4,7 +4,7 @@
 //! `fem.output_interval` costs as much as a fine mesh.
 
 use crate::output::{
-    ContactMeanRecord, CrackRecord, EnergyRecord, FaceRecord, FieldRecord, InterfaceRecord, KktRecord,
+    BoundaryRecord, ContactMeanRecord, CrackRecord, EnergyRecord, FaceRecord, FieldRecord, InterfaceRecord, KktRecord,
     ProbeRecord, ProfileRecord, TipRecord,
 };
 use crate::scene::Scene;
@@ -104,6 +104,8 @@ pub fn estimate(scene: &Scene) -> Estimate {
         + (size_of::<TipRecord>() + size_of::<EnergyRecord>() + size_of::<ContactMeanRecord>()) as f64
         + chains as f64 * size_of::<CrackRecord>() as f64
         + f.probes.len() as f64 * size_of::<ProbeRecord>() as f64
+        // one boundary record per side, curve or point of [fem.boundary]
+        + f.boundary.as_ref().map_or(0, |b| b.curves.len()) as f64 * size_of::<BoundaryRecord>() as f64
         + if d.kkt_metric {
             size_of::<KktRecord>() as f64
         } else {

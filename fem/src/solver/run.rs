@@ -57,6 +57,7 @@ pub fn run_with_fields(
         lateral_contraction: model.lateral_contraction,
         mode_ii_uy: scene.fem.mode_ii_uy,
         damping: scene.fem.damping.describe(),
+        boundary_parts: model.boundary_parts.names.clone(),
         ..RunOutput::default()
     };
     Recorder { out: &mut out }.observe(&model, &state, &ws);
