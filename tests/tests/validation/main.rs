@@ -52,6 +52,8 @@ mod fem_mesh_center_crack;
 #[cfg(feature = "fem")]
 mod fem_patch_test;
 #[cfg(feature = "fem")]
+mod fem_point_loads;
+#[cfg(feature = "fem")]
 mod fem_unstructured_waves;
 #[cfg(feature = "fem")]
 mod fem_wave_speeds;
