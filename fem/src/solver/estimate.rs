@@ -4,8 +4,8 @@
 //! `fem.output_interval` costs as much as a fine mesh.
 
 use crate::output::{
-    BoundaryRecord, ContactMeanRecord, CrackRecord, EnergyRecord, FaceRecord, FieldRecord, InterfaceRecord, KktRecord,
-    ProbeRecord, ProfileRecord, TipRecord,
+    BoundaryRecord, ContactMeanRecord, CrackRecord, EnergyRecord, FaceRecord, FieldRecord, InterfaceRecord,
+    KktRecord, ProbeRecord, ProfileRecord, TipRecord,
 };
 use crate::scene::Scene;
 use preflight::budget::bytes_of;
