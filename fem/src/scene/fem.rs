@@ -258,20 +258,16 @@ fn mesh_boundary(f: &RawFem, crack: Option<&Crack>, m: &MeshSpec) -> Result<(), 
                     .map_err(|e| inconsistent(format!("fem.boundary.{name}"), e.to_string()))?;
                 for (c, raw) in [("x", &side.x), ("y", &side.y)] {
                     let Some(raw) = raw else { continue };
-                    let (wrong, why) = match (part.point, raw.kind.as_str()) {
-                        (true, "traction") => (
-                            true,
-                            "a traction [Pa] acts along a curve; on a physical point give \"force\" [N/m]",
-                        ),
-                        (false, "force") => (
-                            true,
-                            "a force [N/m] acts on a physical point; along a curve give \"traction\" [Pa]",
-                        ),
-                        _ => (false, ""),
+                    let why = match (part.point, raw.kind.as_str()) {
+                        (true, "traction") => {
+                            "a traction [Pa] acts along a curve; on a physical point give \"force\" [N/m]"
+                        }
+                        (false, "force") => {
+                            "a force [N/m] acts on a physical point; along a curve give \"traction\" [Pa]"
+                        }
+                        _ => continue,
                     };
-                    if wrong {
-                        return Err(inconsistent(format!("fem.boundary.{name}.{c}.kind"), why));
-                    }
+                    return Err(inconsistent(format!("fem.boundary.{name}.{c}.kind"), why));
                 }
                 if part.point && side.pressure.is_some() {
                     return Err(inconsistent(
