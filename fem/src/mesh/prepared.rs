@@ -145,7 +145,7 @@ impl PreparedMesh {
 
     /// Nodes of the physical curve `name` and, per node, its tributary length [m] (half of each
     /// adjacent line element of the group).
-    pub fn curve_nodes(&self, name: &str) -> Result<(Vec<u32>, Vec<f64>), MeshError> {
+    fn curve_nodes(&self, name: &str) -> Result<(Vec<u32>, Vec<f64>), MeshError> {
         let g = self.mesh.group_of_dim(
             name,
             1,

@@ -175,6 +175,9 @@ pub(crate) fn validate_fem(
     let steps = keep(errors, step_and_penalties(f, duration));
     let distances = keep(errors, contact_distances(f));
     let blocks = keep(errors, blocks_and_boundary(f, crack));
+    if let (Some(m), Some((_, Some(b))), true) = (&mesh, &blocks, geometry_ok) {
+        keep(errors, kinds_fit_parts(b, m));
+    }
     let zones = keep(errors, zones_and_surface(f));
     let contact_friction = keep(errors, contact_friction(f));
     let diagnostics = keep(errors, diagnostics(f, duration));
@@ -224,8 +227,8 @@ pub(crate) fn validate_fem(
 }
 
 /// With a mesh: the Westergaard field needs a straight pre-crack on y = 0, and each side of
-/// `[fem.boundary]` applies to the physical curve or point of the same name: a traction or a
-/// pressure along a curve, a force on a point.
+/// `[fem.boundary]` applies to the physical curve or point of the same name, a pressure to a curve
+/// of the outer boundary only ([`kinds_fit_parts`] checks the components' kinds).
 fn mesh_boundary(f: &RawFem, crack: Option<&Crack>, m: &MeshSpec) -> Result<(), SceneError> {
     let p = &m.prepared;
     match &f.boundary {
@@ -256,19 +259,6 @@ fn mesh_boundary(f: &RawFem, crack: Option<&Crack>, m: &MeshSpec) -> Result<(), 
                 let part = p
                     .boundary_nodes(name)
                     .map_err(|e| inconsistent(format!("fem.boundary.{name}"), e.to_string()))?;
-                for (c, raw) in [("x", &side.x), ("y", &side.y)] {
-                    let Some(raw) = raw else { continue };
-                    let why = match (part.point, raw.kind.as_str()) {
-                        (true, "traction") => {
-                            "a traction [Pa] acts along a curve; on a physical point give \"force\" [N/m]"
-                        }
-                        (false, "force") => {
-                            "a force [N/m] acts on a physical point; along a curve give \"traction\" [Pa]"
-                        }
-                        _ => continue,
-                    };
-                    return Err(inconsistent(format!("fem.boundary.{name}.{c}.kind"), why));
-                }
                 if part.point && side.pressure.is_some() {
                     return Err(inconsistent(
                         format!("fem.boundary.{name}.pressure"),
@@ -281,6 +271,27 @@ fn mesh_boundary(f: &RawFem, crack: Option<&Crack>, m: &MeshSpec) -> Result<(), 
                         .map_err(|e| inconsistent(format!("fem.boundary.{name}.pressure"), e.to_string()))?;
                 }
             }
+        }
+    }
+    Ok(())
+}
+
+/// On a mesh, each condition fits its kind of part: a traction along a curve, a force on a point
+/// (a pressure on a point is refused by [`mesh_boundary`], which also checks that the parts exist).
+fn kinds_fit_parts(b: &BoundarySpec, m: &MeshSpec) -> Result<(), SceneError> {
+    for c in &b.curves {
+        let point = m.prepared.boundary_nodes(&c.name).is_ok_and(|part| part.point);
+        for (k, comp) in ["x", "y"].iter().zip(&c.components) {
+            let why = match (point, comp.map(|comp| comp.kind)) {
+                (true, Some(BoundaryKind::Traction)) => {
+                    "a traction [Pa] acts along a curve; on a physical point give \"force\" [N/m]"
+                }
+                (false, Some(BoundaryKind::Force)) => {
+                    "a force [N/m] acts on a physical point; along a curve give \"traction\" [Pa]"
+                }
+                _ => continue,
+            };
+            return Err(inconsistent(format!("fem.boundary.{}.{k}.kind", c.name), why));
         }
     }
     Ok(())
