@@ -30,9 +30,9 @@ pub use model::state::{Model, State, Workspace};
 pub use nalgebra;
 pub use output::paraview::{FieldSink, FieldSnapshot, ParaviewWriter};
 pub use output::{
-    ArrivalRecord, BoundaryRecord, ContactMeanRecord, CrackRecord, EnergyRecord, FaceRecord, FieldRecord,
-    FrictionRecord, InterfaceRecord, KktRecord, ProbeRecord, ProfileRecord, ResidualStressRecord, RunOutput,
-    RunRecord, TipRecord, write_csv,
+    ArrivalRecord, BoundaryRecord, ContactMeanRecord, CrackRecord, CrackTipRecord, EnergyRecord, FaceRecord,
+    FieldRecord, FrictionRecord, InterfaceRecord, KktRecord, ProbeRecord, ProfileRecord,
+    ResidualStressRecord, RunOutput, RunRecord, TipRecord, write_csv,
 };
 pub use scene::Scene;
 pub use solver::central_difference::step;

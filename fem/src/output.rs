@@ -43,6 +43,32 @@ pub struct CrackRecord {
     pub broken_to: f64,
 }
 
+/// One crack (or one process zone that has not broken yet) on one interface chain at one sample,
+/// with its crack tips and cohesive-zone tips: every crack of every chain, with or without a
+/// pre-crack. A crack is a stretch of consecutive broken points of the chain; its cohesive zones
+/// reach to the ends of the run of consecutive damaged points that holds it (two cracks joined by
+/// a damaged ligament share them). A pre-crack facet counts as broken from end to end, a cohesive
+/// facet by its two Gauss points. Coordinates are the chain's own (x on the built-in grids); on
+/// a closed chain a run across the chain's first node has its start beyond its end.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct CrackTipRecord {
+    /// Time [s].
+    pub t: f64,
+    /// Interface chain [-] (0, 1, … as docs/meshes.md orders them; 0 on the built-in grids).
+    pub chain: u16,
+    /// The crack's rank on its chain at this sample, from the chain's start [-].
+    pub crack: u16,
+    /// Crack tip towards the chain's start: the crack's first broken point [m] (NaN: a process
+    /// zone, nothing broken yet).
+    pub tip_start: f64,
+    /// Crack tip towards the chain's end: the crack's last broken point [m] (NaN as above).
+    pub tip_end: f64,
+    /// Cohesive-zone tip towards the chain's start: the first point of the damaged run [m].
+    pub cz_start: f64,
+    /// Cohesive-zone tip towards the chain's end: the last point of the damaged run [m].
+    pub cz_end: f64,
+}
+
 /// The displacement of one part of `[fem.boundary]` (a side, curve or point) and the force its
 /// conditions apply to the body, at one sample: a load–displacement curve for any part.
 #[derive(Debug, Clone, Copy, Serialize)]
@@ -321,6 +347,8 @@ pub struct RunOutput {
     pub tips: Vec<TipRecord>,
     /// Cracked extent per interface chain per sample (with an interface).
     pub cracks: Vec<CrackRecord>,
+    /// Every crack and process zone of every chain per sample, with its tips (with an interface).
+    pub crack_tips: Vec<CrackTipRecord>,
     /// Damage per interface Gauss point per sample.
     pub interface: Vec<InterfaceRecord>,
     /// Upper-face contact state per node per sample.
@@ -436,10 +464,11 @@ fn boundary_rows(output: &RunOutput) -> Vec<BoundaryRow<'_>> {
 }
 
 /// Every CSV file [`write_csv`] may write: a run writes a subset, depending on the scene.
-pub const CSV_FILES: [&str; 15] = [
+pub const CSV_FILES: [&str; 16] = [
     "run.csv",
     "tips.csv",
     "cracks.csv",
+    "crack_tips.csv",
     "interface.csv",
     "faces.csv",
     "contact.csv",
@@ -476,10 +505,10 @@ pub fn clear_previous(dir: &Path) -> io::Result<usize> {
     preflight::paths::remove_files(files.chain(snapshots))
 }
 
-/// Writes run.csv, tips.csv (with a pre-crack), cracks.csv (with an interface), interface.csv,
-/// faces.csv, contact.csv, energy.csv, arrivals.csv, probes.csv, boundary.csv (with
-/// `[fem.boundary]`), friction.csv (with friction) and, when declared, residual_stress.csv, kkt.csv,
-/// field.csv, profile.csv into `dir`.
+/// Writes run.csv, tips.csv (with a pre-crack), cracks.csv and crack_tips.csv (with an
+/// interface), interface.csv, faces.csv, contact.csv, energy.csv, arrivals.csv, probes.csv,
+/// boundary.csv (with `[fem.boundary]`), friction.csv (with friction) and, when declared,
+/// residual_stress.csv, kkt.csv, field.csv, profile.csv into `dir`.
 pub fn write_csv(output: &RunOutput, dir: &Path) -> io::Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir)?;
     // interface.csv, the largest file, on one thread while the others are written on another:
@@ -498,6 +527,7 @@ pub fn write_csv(output: &RunOutput, dir: &Path) -> io::Result<Vec<PathBuf>> {
             }
             if !output.cracks.is_empty() {
                 write(dir, "cracks.csv", &output.cracks, &mut out)?;
+                write(dir, "crack_tips.csv", &output.crack_tips, &mut out)?;
             }
             write(dir, "faces.csv", &output.faces, &mut out)?;
             write(dir, "contact.csv", &output.contact, &mut out)?;

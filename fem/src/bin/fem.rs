@@ -139,7 +139,7 @@ fn main() -> Result<()> {
             out_dir.join("fields").display()
         );
     }
-    if let Some(line) = crack_summary(&output.cracks) {
+    if let Some(line) = crack_summary(&output.cracks, &output.crack_tips) {
         println!("{line}");
     }
     let record = output.record();
@@ -156,16 +156,19 @@ fn main() -> Result<()> {
     Ok(())
 }
 
-/// The last sample of cracks.csv in one line: broken and cohesive lengths over all chains.
-fn crack_summary(cracks: &[fem::CrackRecord]) -> Option<String> {
+/// The last sample of cracks.csv and crack_tips.csv in one line: broken and cohesive lengths over
+/// all chains, and the number of separate cracks.
+fn crack_summary(cracks: &[fem::CrackRecord], tips: &[fem::CrackTipRecord]) -> Option<String> {
     let t = cracks.last()?.t;
     let last: Vec<_> = cracks.iter().filter(|r| r.t == t).collect();
     let (broken, cohesive) = last.iter().fold((0.0, 0.0), |(b, c), r| {
         (b + r.broken_length, c + r.cohesive_length)
     });
     let cracked = last.iter().filter(|r| r.broken_length > 0.0).count();
+    let separate = tips.iter().filter(|r| r.t == t && !r.tip_start.is_nan()).count();
     Some(format!(
-        "at t = {t:.6} s: {broken:.6} m broken of {cohesive:.6} m of cohesive interface, on {cracked} of {} chain(s) (cracks.csv)",
+        "at t = {t:.6} s: {broken:.6} m broken of {cohesive:.6} m of cohesive interface, on {cracked} of {} chain(s) \
+         (cracks.csv); {separate} separate crack(s), pre-cracks included, their tips in crack_tips.csv",
         last.len()
     ))
 }

@@ -27,6 +27,7 @@ impl Observer for Recorder<'_> {
         let out = &mut *self.out;
         out.tips.extend(tips::tips(model, state));
         tips::crack_records(model, state, &mut out.cracks);
+        tips::crack_tip_records(model, state, &mut out.crack_tips);
         tips::interface_records(model, state, &mut out.interface);
         let mean = tractions::face_records(model, state, &mut out.faces);
         if state.contact.is_some() {

@@ -4,7 +4,7 @@
 use crate::mesh::interfaces::{FacetKind, InterfaceRow};
 use crate::model::cohesive::facet_gauss;
 use crate::model::state::{Model, State};
-use crate::output::{ArrivalRecord, CrackRecord, InterfaceRecord, TipRecord};
+use crate::output::{ArrivalRecord, CrackRecord, CrackTipRecord, InterfaceRecord, TipRecord};
 
 /// Interface coordinate of Gauss point q of facet c [m] (x on the built-in grids).
 fn gauss_x(model: &Model, c: usize, q: usize) -> f64 {
@@ -118,6 +118,118 @@ pub(crate) fn crack_records(model: &Model, state: &State, out: &mut Vec<CrackRec
                 r.process_zone_length += half;
             }
         }
+    }
+}
+
+/// A point of a chain as the crack records see it: its coordinate [m], and whether it is broken
+/// (a pre-crack facet's end, or a Gauss point with d = 1) or damaged (d > 0, broken included).
+#[derive(Clone, Copy)]
+struct ChainPoint {
+    x: f64,
+    broken: bool,
+    damaged: bool,
+}
+
+/// The points of facets `facets` (one chain, in its order): a pre-crack facet by its two ends,
+/// a cohesive facet by its two Gauss points, a plain facet by one undamaged point.
+fn chain_points(model: &Model, state: &State, facets: std::ops::Range<usize>, out: &mut Vec<ChainPoint>) {
+    let row = model.iface.as_ref().expect("invariant: interface row");
+    out.clear();
+    for c in facets {
+        match row.kind[c] {
+            FacetKind::PreCrack => out.extend(row.facet_span(c).map(|x| ChainPoint {
+                x,
+                broken: true,
+                damaged: true,
+            })),
+            FacetKind::Cohesive => out.extend((0..2).map(|q| {
+                let d = if state.facets.inserted[c] {
+                    state.facets.gauss[c][q].damage
+                } else {
+                    0.0
+                };
+                ChainPoint {
+                    x: gauss_x(model, c, q),
+                    broken: d >= 1.0,
+                    damaged: d > 0.0,
+                }
+            })),
+            FacetKind::Plain => out.push(ChainPoint {
+                x: gauss_x(model, c, 0),
+                broken: false,
+                damaged: false,
+            }),
+        }
+    }
+}
+
+/// Every crack of every chain. A crack is a stretch of consecutive broken points (its ends are
+/// its crack tips); its cohesive-zone tips are the ends of the run of consecutive damaged points
+/// that holds it, so that two cracks joined by a damaged ligament share them. A damaged run with
+/// no broken point is a process zone (NaN tips). These are the definitions of [`tips`], which
+/// follows the pre-crack's crack only. A closed chain's run across its first node is one run.
+pub(crate) fn crack_tip_records(model: &Model, state: &State, out: &mut Vec<CrackTipRecord>) {
+    let Some(row) = &model.iface else { return };
+    let nf = row.num_facets();
+    let chain_of = |c: usize| row.chain[row.facet_columns(c)[0]];
+    let mut points = Vec::new();
+    let mut first = 0;
+    while first < nf {
+        let chain = chain_of(first);
+        let end = (first..nf).find(|&c| chain_of(c) != chain).unwrap_or(nf);
+        chain_points(model, state, first..end, &mut points);
+        // a closed chain's last facet continues into its first: start after an undamaged point
+        // (or, all damaged, after an unbroken one) so that no run or crack is cut at the chain's
+        // first node
+        if row.continues(end - 1, first) {
+            let undamaged = points.iter().rposition(|p| !p.damaged);
+            if let Some(i) = undamaged.or_else(|| points.iter().rposition(|p| !p.broken)) {
+                points.rotate_left(i + 1);
+            }
+        }
+        let mut crack = 0u16;
+        let mut i = 0;
+        while i < points.len() {
+            if !points[i].damaged {
+                i += 1;
+                continue;
+            }
+            let j = (i..points.len())
+                .find(|&j| !points[j].damaged)
+                .unwrap_or(points.len());
+            let run = &points[i..j];
+            let (cz_start, cz_end) = (run[0].x, run[run.len() - 1].x);
+            let mut record = |tip_start: f64, tip_end: f64| {
+                out.push(CrackTipRecord {
+                    t: state.t,
+                    chain,
+                    crack,
+                    tip_start,
+                    tip_end,
+                    cz_start,
+                    cz_end,
+                });
+                crack += 1;
+            };
+            // each stretch of consecutive broken points is a crack; without one, a process zone
+            let mut k = 0;
+            let mut cracks = 0;
+            while k < run.len() {
+                if !run[k].broken {
+                    k += 1;
+                    continue;
+                }
+                let l = (k..run.len()).find(|&l| !run[l].broken).unwrap_or(run.len());
+                record(run[k].x, run[l - 1].x);
+                cracks += 1;
+                k = l;
+            }
+            if cracks == 0 {
+                record(f64::NAN, f64::NAN);
+            }
+            i = j;
+        }
+        first = end;
     }
 }
 

@@ -4,8 +4,8 @@
 //! `fem.output_interval` costs as much as a fine mesh.
 
 use crate::output::{
-    BoundaryRecord, ContactMeanRecord, CrackRecord, EnergyRecord, FaceRecord, FieldRecord, InterfaceRecord,
-    KktRecord, ProbeRecord, ProfileRecord, TipRecord,
+    BoundaryRecord, ContactMeanRecord, CrackRecord, CrackTipRecord, EnergyRecord, FaceRecord, FieldRecord,
+    InterfaceRecord, KktRecord, ProbeRecord, ProfileRecord, TipRecord,
 };
 use crate::scene::Scene;
 use preflight::budget::bytes_of;
@@ -103,6 +103,8 @@ pub fn estimate(scene: &Scene) -> Estimate {
     let per_sample = row
         + (size_of::<TipRecord>() + size_of::<EnergyRecord>() + size_of::<ContactMeanRecord>()) as f64
         + chains as f64 * size_of::<CrackRecord>() as f64
+        // one crack-tip record per crack: counted as two cracks per chain
+        + 2.0 * chains as f64 * size_of::<CrackTipRecord>() as f64
         + f.probes.len() as f64 * size_of::<ProbeRecord>() as f64
         // one boundary record per side, curve or point of [fem.boundary]
         + f.boundary.as_ref().map_or(0, |b| b.curves.len()) as f64 * size_of::<BoundaryRecord>() as f64
