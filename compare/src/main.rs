@@ -397,6 +397,8 @@ fn emit_sweep(study: &Study, text: &str, scene: &Path, sizes: &[f64], dir: &Path
     let points = sweep::plan(study, &sweep::sizes(sizes)?)?;
     let exe = std::env::current_exe().context("locating the compare executable")?;
     let target = scale_out::check(dir, &exe)?;
+    // `--collect` writes its results into the same folder
+    preflight::paths::claim(&target.dir, "compare").map_err(|e| anyhow!(e))?;
     let plan = sweep::preflight(study, &points, &target.dir)?;
     println!("{plan}");
     let files = scale_out::emit(&target, study, text, scene, &points, &plan)?;

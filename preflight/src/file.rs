@@ -49,13 +49,25 @@ pub fn problems_text(problems: &[Problem]) -> String {
 
 /// Deserialises `text` into `T`, collecting the keys `T` does not know (as dotted keys,
 /// `fem.interface_zones[1].bogus`) instead of refusing the first. Syntax errors and values of the
-/// wrong type are returned as the parser words them (they carry their line).
+/// wrong type are returned as the parser words them (they carry their line), followed by the
+/// unknown keys met before the error with their lines: a misspelt required key is reported as
+/// missing, and its misspelling is the line that tells what to change.
 pub fn parse<T: DeserializeOwned>(text: &str) -> Result<(T, Vec<String>), String> {
     let de = toml::de::Deserializer::parse(text).map_err(|e| e.to_string())?;
     let mut unknown = Vec::new();
-    let value: T = serde_ignored::deserialize(de, |path| unknown.push(dotted(&path.to_string())))
-        .map_err(|e| e.to_string())?;
-    Ok((value, unknown))
+    let value: Result<T, _> = serde_ignored::deserialize(de, |path| unknown.push(dotted(&path.to_string())));
+    match value {
+        Ok(value) => Ok((value, unknown)),
+        Err(e) => {
+            let mut message = e.to_string();
+            let mut also = unknown_keys(unknown);
+            locate(text, &mut also);
+            for p in &also {
+                message.push_str(&format!("\nalso {p}"));
+            }
+            Err(message)
+        }
+    }
 }
 
 /// One "unknown key" problem per key of `unknown`.
@@ -185,5 +197,28 @@ mod tests {
             "fem.interface_zones[1].bogus"
         );
         assert_eq!(dotted("compare.?.friction_coefs"), "compare.friction_coefs");
+    }
+
+    #[derive(serde::Deserialize)]
+    #[allow(dead_code)]
+    struct Fem {
+        output_interval: f64,
+        element_size: f64,
+    }
+
+    #[derive(serde::Deserialize)]
+    #[allow(dead_code)]
+    struct File {
+        fem: Fem,
+    }
+
+    /// A misspelt required key: the parser stops at the missing one, and the misspelling, met
+    /// before it, is reported with its line.
+    #[test]
+    fn a_misspelt_required_key_is_named_beside_the_missing_one() {
+        let text = "[fem]\nelement_size = 1e-3\noutput_intervall = 1e-5\n";
+        let e = parse::<File>(text).err().unwrap();
+        assert!(e.contains("missing field `output_interval`"), "{e}");
+        assert!(e.contains("also line 3: unknown key fem.output_intervall"), "{e}");
     }
 }

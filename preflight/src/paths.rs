@@ -40,20 +40,37 @@ pub fn explicit(dir: &Path) -> Result<&Path, String> {
 }
 
 /// Creates `dir` and marks it as written by `model`, before any work: a folder that cannot be
-/// created or written to, or that holds another model's output, is refused now rather than after
-/// the run.
+/// created or written to, that holds another model's output, or that holds files without a marker
+/// (the user's own: a run removes and overwrites the files it writes) is refused now rather than
+/// after the run.
 pub fn claim(dir: &Path, model: &str) -> Result<(), String> {
     std::fs::create_dir_all(dir)
         .map_err(|e| format!("output folder {}: cannot create it: {e}", dir.display()))?;
     let marker = dir.join(MARKER);
-    if let Ok(owner) = std::fs::read_to_string(&marker) {
-        let owner = owner.trim();
-        if owner != model {
-            return Err(format!(
-                "output folder {} holds the output of the {owner} model; give the {model} model \
-                 another folder (--out)",
-                dir.display()
-            ));
+    match std::fs::read_to_string(&marker) {
+        Ok(owner) => {
+            let owner = owner.trim();
+            if owner != model {
+                return Err(format!(
+                    "output folder {} holds the output of the {owner} model; give the {model} \
+                     model another folder (--out)",
+                    dir.display()
+                ));
+            }
+        }
+        Err(_) => {
+            let mut entries = std::fs::read_dir(dir)
+                .map_err(|e| format!("output folder {}: cannot list it: {e}", dir.display()))?;
+            if let Some(entry) = entries.next() {
+                let name =
+                    entry.map_or_else(|_| "?".into(), |e| e.file_name().to_string_lossy().into_owned());
+                return Err(format!(
+                    "output folder {} already holds files (e.g. {name}) that this program did not \
+                     write (it has no {MARKER}); a run would overwrite or remove some of them: give \
+                     a new or empty folder (--out)",
+                    dir.display()
+                ));
+            }
         }
     }
     std::fs::write(&marker, format!("{model}\n"))
@@ -118,6 +135,22 @@ mod tests {
         claim(&dir, "fem").unwrap();
         let e = claim(&dir, "spectral").unwrap_err();
         assert!(e.contains("fem model"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A folder of the user's own files is not a run's to clear: its run.csv would be removed.
+    #[test]
+    fn a_folder_of_other_files_is_refused_and_an_empty_one_claimed() {
+        let dir = std::env::temp_dir().join(format!("preflight-claim-theirs-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        claim(&dir, "fem").unwrap();
+        std::fs::remove_file(dir.join(MARKER)).unwrap();
+        std::fs::write(dir.join("run.csv"), "mine").unwrap();
+        let e = claim(&dir, "fem").unwrap_err();
+        assert!(e.contains("run.csv") && e.contains("did not write"), "{e}");
+        assert_eq!(std::fs::read_to_string(dir.join("run.csv")).unwrap(), "mine");
+        assert!(!dir.join(MARKER).exists(), "refused, yet claimed");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -2,7 +2,7 @@
 //! budgets, the output folder), then runs the scene and writes the CSV records (and the ParaView
 //! snapshots when the scene asks for them).
 
-use anyhow::{Context, Result, anyhow, bail};
+use anyhow::{Context, anyhow, bail};
 use clap::Parser;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
@@ -20,7 +20,19 @@ struct Cli {
     run: preflight::options::RunOptions,
 }
 
-fn main() -> Result<()> {
+/// Prints an error with its causes on one line and exits 1: never a backtrace, whatever
+/// `RUST_BACKTRACE` says (it would bury the one line that says what to change).
+fn main() -> std::process::ExitCode {
+    match run() {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+fn run() -> anyhow::Result<()> {
     let cli = Cli::parse();
     let text =
         std::fs::read_to_string(&cli.scene).with_context(|| format!("reading {}", cli.scene.display()))?;

@@ -19,7 +19,19 @@ struct Cli {
     run: preflight::options::RunOptions,
 }
 
-fn main() -> anyhow::Result<()> {
+/// Prints an error with its causes on one line and exits 1: never a backtrace, whatever
+/// `RUST_BACKTRACE` says (it would bury the one line that says what to change).
+fn main() -> std::process::ExitCode {
+    match run() {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+fn run() -> anyhow::Result<()> {
     let cli = Cli::parse();
     let scene_path = &cli.scene;
     let text =
