@@ -13,7 +13,7 @@ pub enum SceneError {
     #[error("scene does not parse: {0}")]
     Parse(String),
     /// A number outside its allowed range.
-    #[error("{field} = {value} out of range; allowed {allowed}")]
+    #[error("{field} = {} out of range; allowed {allowed}", number(*value))]
     OutOfRange {
         /// Dotted scene key, e.g. `fem.element_size`.
         field: String,
@@ -159,4 +159,32 @@ pub enum RunError {
         /// Output recorded up to there.
         partial: Box<RunOutput>,
     },
+}
+
+/// A number for a message: as written for ordinary magnitudes (`0.25`, `70000000`), in scientific
+/// notation beyond (`1e-300`, not three hundred zeros); the shortest form that reads back exactly.
+pub fn number(v: f64) -> String {
+    let a = v.abs();
+    if a != 0.0 && a.is_finite() && !(1e-4..1e9).contains(&a) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
+#[cfg(test)]
+mod number_tests {
+    use super::number;
+
+    #[test]
+    fn numbers_read_as_written_and_extremes_in_scientific_notation() {
+        assert_eq!(number(0.25), "0.25");
+        assert_eq!(number(70e6), "70000000");
+        assert_eq!(number(1e-300), "1e-300");
+        assert_eq!(number(-2.1665e-6), "-2.1665e-6");
+        assert_eq!(number(1e300), "1e300");
+        assert_eq!(number(0.0), "0");
+        assert_eq!(number(f64::NAN), "NaN");
+        assert_eq!(number(f64::INFINITY), "inf");
+    }
 }

@@ -210,30 +210,9 @@ impl Scene {
     }
 }
 
-/// A ramp of `[loading]`; `field` is its key (`loading.normal`). A ramp that would start after
-/// the run ends is refused: its load would never act.
+/// A ramp of `[loading]`; `field` is its key (`loading.normal`); none given is zero.
 fn ramp(field: &str, r: Option<RawRamp>, duration: f64) -> Result<Ramp, SceneError> {
-    let Some(r) = r else { return Ok(Ramp::ZERO) };
-    check(format!("{field}.initial"), r.initial, true, "a finite number")?;
-    check(format!("{field}.final"), r.final_, true, "a finite number")?;
-    check(
-        format!("{field}.ramp_start"),
-        r.ramp_start,
-        r.ramp_start >= 0.0 && r.ramp_start < duration,
-        "[0, loading.duration) s: a ramp starting at or after T never acts",
-    )?;
-    check(
-        format!("{field}.ramp_end"),
-        r.ramp_end,
-        r.ramp_end >= r.ramp_start,
-        ">= ramp_start",
-    )?;
-    Ok(Ramp {
-        initial: r.initial,
-        final_value: r.final_,
-        ramp_start: r.ramp_start,
-        ramp_end: r.ramp_end,
-    })
+    r.map_or(Ok(Ramp::ZERO), |r| checks::ramp(field, &r, duration))
 }
 
 fn interface(i: &raw::RawInterface) -> Result<LinearCohesive, SceneError> {

@@ -192,6 +192,14 @@ fn a_mesh_in_millimetres_runs_in_metres_with_its_unit() {
             "{bad}: {e}"
         );
     }
+    // a unit that overflows or underflows the elements is blamed, not the keys derived from h
+    for bad in ["1e300", "1e-300"] {
+        let e = refused(&scene_text.replace("[fem.mesh]\n", &format!("[fem.mesh]\nunit = {bad}\n")));
+        assert!(
+            e.contains(&format!("fem.mesh.unit: {bad} m per unit")) && e.contains("floating point"),
+            "{bad}: {e}"
+        );
+    }
 }
 
 /// The tiny centre crack's grid as an MSH file in `dir`, and the scene text without its grid keys.
@@ -863,4 +871,117 @@ fn points_take_supports_and_forces_and_the_wrong_conditions_are_refused() {
         e.contains("fem.boundary.notch_tip") && e.contains("interface"),
         "{e}"
     );
+}
+
+/// Keys that would do nothing, or harm, are refused naming the key, before any step: an empty
+/// `[fem.boundary]` (it replaces the Westergaard field by nothing: no load, no support) or an
+/// empty part of it, a boundary ramp that starts after the run, a condition on a crack curve
+/// (its nodes are split: it would hold one face), a group listed twice or in both crack roles,
+/// a probe in the notch (inside the bounding box, in no element), damping rates without damping,
+/// a cohesive zone that holds no cohesive facet (on a mesh and on the grid), a sine beyond the grid.
+#[test]
+fn keys_that_would_do_nothing_or_harm_are_refused() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+    let bend = scene_text("three-point-bend");
+    let grid = scene_text("tiny-fem-center-crack");
+    assert!(Scene::from_toml_str_in(&bend, &dir).is_ok() && Scene::from_toml_str_in(&grid, &dir).is_ok());
+    let platen =
+        "y = { kind = \"displacement\", initial = 0.0, final = -25e-3, ramp_start = 0.0, ramp_end = 1.2 }";
+    let beam = "bulk = [\"beam\"]";
+    let ligament = "interface = [\"ligament\"]";
+    let fem = "[fem]\n";
+    assert!(bend.contains(platen) && bend.contains(beam) && bend.contains(ligament));
+    let cases: Vec<(String, &str, &str)> = vec![
+        (
+            format!("{grid}\n[fem.boundary]\n"),
+            "fem.boundary:",
+            "neither loaded nor held",
+        ),
+        (
+            format!("{bend}\n[fem.boundary.notch_tip]\n"),
+            "fem.boundary.notch_tip:",
+            "no x, y or pressure",
+        ),
+        (
+            bend.replace(
+                platen,
+                &platen.replace(
+                    "ramp_start = 0.0, ramp_end = 1.2",
+                    "ramp_start = 1.5, ramp_end = 2.0",
+                ),
+            ),
+            "fem.boundary.platen.y.ramp_start",
+            "never reaches its final value",
+        ),
+        (
+            bend.replace(platen, &platen.replace("final = -25e-3", "final = nan")),
+            "fem.boundary.platen.y.final",
+            "",
+        ),
+        (
+            format!("{bend}\n[fem.boundary.ligament]\n{platen}\n"),
+            "fem.boundary.ligament:",
+            "one face only",
+        ),
+        (
+            bend.replace(beam, "bulk = [\"beam\", \"beam\"]"),
+            "fem.mesh.bulk:",
+            "twice",
+        ),
+        (
+            bend.replace(ligament, &format!("{ligament}\npre_crack = [\"ligament\"]")),
+            "fem.mesh.",
+            "a curve is a pre-crack or a cohesive interface",
+        ),
+        (
+            bend.replacen(fem, "[fem]\nprobes = [[0.0, 0.01]]\n", 1),
+            "fem.probes[0]:",
+            "no element",
+        ),
+        (
+            bend.replacen(fem, "[fem]\ndamping_factor = 0.9\n", 1),
+            "fem.damping_factor:",
+            "nothing is damped",
+        ),
+        (
+            format!(
+                "{bend}\n[[fem.interface_zones]]\nx_range = [0.3, 0.4]\nsigma_c = 1e5\ndelta_c = 1e-3\nbeta = 1.0\nkappa = 1.0\n"
+            ),
+            "fem.interface_zones[0].x_range:",
+            "no cohesive facet",
+        ),
+        (
+            format!(
+                "{grid}\n[[fem.interface_zones]]\nx_range = [-0.005, 0.005]\nsigma_c = 1e5\ndelta_c = 1e-4\nbeta = 1.0\nkappa = 1.0\n"
+            ),
+            "fem.interface_zones[0].x_range:",
+            "no cohesive facet",
+        ),
+        (
+            grid.replacen(
+                fem,
+                "[fem]\ninterface_sine = { amplitude = 1e-4, half_period = 0.005, from = 0.01, to = 1.0 }\n",
+                1,
+            ),
+            "fem.interface_sine.to",
+            "farthest",
+        ),
+    ];
+    for (text, key, why) in &cases {
+        let e = match Scene::from_toml_str_in(text, &dir) {
+            Ok(_) => panic!("accepted: {key}"),
+            Err(e) => e.to_string(),
+        };
+        assert!(e.contains(key) && e.contains(why), "{key}: {e}");
+    }
+    // a constant (initial = final) is no ramp: its start may lie anywhere, even after the run
+    let held = bend.replace(
+        platen,
+        &platen.replace(
+            "final = -25e-3, ramp_start = 0.0, ramp_end = 1.2",
+            "final = 0.0, ramp_start = 1.5, ramp_end = 2.0",
+        ),
+    );
+    assert_ne!(held, bend);
+    assert!(Scene::from_toml_str_in(&held, &dir).is_ok());
 }

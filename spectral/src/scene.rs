@@ -352,8 +352,9 @@ impl Problems {
         self.num(
             &format!("{key}.ramp_start"),
             r.ramp_start,
-            r.ramp_start >= 0.0 && r.ramp_start < duration,
-            "[0, loading.duration) s: a ramp starting at or after T never acts",
+            // equal values are a constant, which may start anywhere
+            r.ramp_start >= 0.0 && (r.ramp_start < duration || r.r#final == r.initial),
+            "[0, loading.duration) s: a ramp starting at or after T never reaches its final value",
         );
         self.num(
             &format!("{key}.ramp_end"),

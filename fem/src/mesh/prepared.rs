@@ -70,6 +70,20 @@ pub struct PreparedMesh {
 }
 
 impl PreparedMesh {
+    /// Whether the point `p` [m] lies in an element of the body, its edges included (to 1e-9 of
+    /// each edge's length): every element is convex and counter-clockwise.
+    pub fn contains(&self, p: Vector2<f64>) -> bool {
+        let x = &self.mesh.positions;
+        self.mesh.elements.iter().any(|e| {
+            let n = e.nodes.len();
+            (0..n).all(|k| {
+                let (a, b) = (x[e.nodes[k]], x[e.nodes[(k + 1) % n]]);
+                let (ab, ap) = (b - a, p - a);
+                ab.perp(&ap) >= -1e-9 * ab.norm_squared()
+            })
+        })
+    }
+
     /// Interface-coordinate range [s₀, s₁] [m] of the pre-crack facets (`None`: none), from the
     /// start of the first to the end of the last in the row's order.
     pub fn pre_crack_extent(&self) -> Option<[f64; 2]> {

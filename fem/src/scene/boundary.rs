@@ -2,7 +2,7 @@
 //! imposed displacement [m], traction [Pa] (sides and curves) or force [N/m] (points), and on a
 //! side or curve a pressure [Pa] along the outward normal, each through the ramp of eq. (B.1).
 
-use super::checks::{check, inconsistent, option};
+use super::checks::{inconsistent, option, ramp};
 use super::problem::Ramp;
 use super::raw::{RawBoundary, RawBoundaryComponent, RawRamp, RawSide};
 use crate::error::SceneError;
@@ -55,9 +55,9 @@ pub struct BoundarySpec {
     pub curves: Vec<BoundaryCurve>,
 }
 
-fn component(field: &str, c: &RawBoundaryComponent) -> Result<BoundaryComponent, SceneError> {
+fn component(field: &str, c: &RawBoundaryComponent, duration: f64) -> Result<BoundaryComponent, SceneError> {
     let kind = option(
-        field,
+        format!("{field}.kind"),
         Some(&c.kind),
         BoundaryKind::Displacement,
         &[
@@ -75,37 +75,32 @@ fn component(field: &str, c: &RawBoundaryComponent) -> Result<BoundaryComponent,
             ramp_start: c.ramp_start,
             ramp_end: c.ramp_end,
         },
+        duration,
     )?;
     Ok(BoundaryComponent { kind, ramp })
 }
 
-/// A ramp of `[fem.boundary]`, its values checked under `field`.
-fn ramp(field: &str, c: &RawRamp) -> Result<Ramp, SceneError> {
-    check(field, c.initial, true, "a finite number")?;
-    check(field, c.final_, true, "a finite number")?;
-    check(field, c.ramp_start, c.ramp_start >= 0.0, "ramp_start >= 0 s")?;
-    check(
-        field,
-        c.ramp_end,
-        c.ramp_end >= c.ramp_start,
-        "ramp_end >= ramp_start",
-    )?;
-    Ok(Ramp {
-        initial: c.initial,
-        final_value: c.final_,
-        ramp_start: c.ramp_start,
-        ramp_end: c.ramp_end,
-    })
-}
-
-fn side(name: &str, s: &RawSide) -> Result<BoundaryCurve, SceneError> {
+fn side(name: &str, s: &RawSide, duration: f64) -> Result<BoundaryCurve, SceneError> {
+    if s.x.is_none() && s.y.is_none() && s.pressure.is_none() {
+        return Err(inconsistent(
+            format!("fem.boundary.{name}"),
+            "gives no x, y or pressure: a part not listed is free already (remove the table, or \
+             give its condition)",
+        ));
+    }
     let key = |c: &str| format!("fem.boundary.{name}.{c}");
-    let x = s.x.as_ref().map(|c| component(&key("x"), c)).transpose()?;
-    let y = s.y.as_ref().map(|c| component(&key("y"), c)).transpose()?;
+    let x =
+        s.x.as_ref()
+            .map(|c| component(&key("x"), c, duration))
+            .transpose()?;
+    let y =
+        s.y.as_ref()
+            .map(|c| component(&key("y"), c, duration))
+            .transpose()?;
     let pressure = s
         .pressure
         .as_ref()
-        .map(|p| ramp(&key("pressure"), p))
+        .map(|p| ramp(&key("pressure"), p, duration))
         .transpose()?;
     Ok(BoundaryCurve {
         name: name.to_string(),
@@ -115,8 +110,17 @@ fn side(name: &str, s: &RawSide) -> Result<BoundaryCurve, SceneError> {
 }
 
 /// The conditions of `[fem.boundary]` in the order they apply: the grid's sides first, in the
-/// order of [`GRID_SIDES`], then the other names in order.
-pub(crate) fn boundary(b: &RawBoundary) -> Result<BoundarySpec, SceneError> {
+/// order of [`GRID_SIDES`], then the other names in order. `duration` is the run's T [s]. An
+/// empty `[fem.boundary]` is refused: it would replace the Westergaard field by nothing, leaving
+/// the body unloaded and unheld.
+pub(crate) fn boundary(b: &RawBoundary, duration: f64) -> Result<BoundarySpec, SceneError> {
+    if b.is_empty() {
+        return Err(inconsistent(
+            "fem.boundary",
+            "is empty: it replaces the Westergaard boundary field, so the body would be neither \
+             loaded nor held; give a side, curve or point (e.g. [fem.boundary.top]) or remove it",
+        ));
+    }
     // each component given is one ramp of the loading, indexed by a byte
     if b.len() > MAX_CURVES {
         return Err(inconsistent(
@@ -134,7 +138,7 @@ pub(crate) fn boundary(b: &RawBoundary) -> Result<BoundarySpec, SceneError> {
     names.sort_by_key(|n| rank(n)); // stable: the other names stay in the map's (name) order
     let curves = names
         .into_iter()
-        .map(|n| side(n, &b[n]))
+        .map(|n| side(n, &b[n], duration))
         .collect::<Result<_, _>>()?;
     Ok(BoundarySpec { curves })
 }

@@ -4,7 +4,8 @@
 //! `[fem.mesh.materials.NAME]`) and a linear cohesive law (`[interface]`,
 //! `[[fem.interface_zones]]`, `[fem.mesh.laws.NAME]`).
 
-use super::raw::RawMaterial;
+use super::problem::Ramp;
+use super::raw::{RawMaterial, RawRamp};
 use crate::error::SceneError;
 use crate::law::cohesive::LinearCohesive;
 use crate::law::elastic::PlaneStrain;
@@ -18,6 +19,33 @@ pub(crate) fn material(prefix: &str, m: &RawMaterial) -> Result<PlaneStrain, Sce
     check(key("poisson_ratio"), nu, (0.0..0.5).contains(&nu), "[0, 0.5)")?;
     check(key("density"), rho, rho > 0.0, "> 0 kg/m^3")?;
     Ok(PlaneStrain::new(e, nu, rho))
+}
+
+/// A ramp of eq. (B.1) under `field` (`loading.normal`, `fem.boundary.top.y`): finite values, a
+/// start in [0, T) where T = `duration` [s], an end after the start. A ramp from `initial` to a
+/// different `final` that starts at or after T is refused (its `final` would never be reached);
+/// one whose two values are equal is a constant and may start anywhere.
+pub(crate) fn ramp(field: &str, r: &RawRamp, duration: f64) -> Result<Ramp, SceneError> {
+    check(format!("{field}.initial"), r.initial, true, "a finite number")?;
+    check(format!("{field}.final"), r.final_, true, "a finite number")?;
+    check(
+        format!("{field}.ramp_start"),
+        r.ramp_start,
+        r.ramp_start >= 0.0 && (r.ramp_start < duration || r.final_ == r.initial),
+        "[0, loading.duration) s: a ramp starting at or after T never reaches its final value",
+    )?;
+    check(
+        format!("{field}.ramp_end"),
+        r.ramp_end,
+        r.ramp_end >= r.ramp_start,
+        ">= ramp_start",
+    )?;
+    Ok(Ramp {
+        initial: r.initial,
+        final_value: r.final_,
+        ramp_start: r.ramp_start,
+        ramp_end: r.ramp_end,
+    })
 }
 
 /// The cohesive law σ_c [Pa], δ_c [m], β, κ [-] of the table at `prefix` (`interface`,

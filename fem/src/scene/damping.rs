@@ -113,6 +113,19 @@ pub(crate) fn damping(f: &RawFem) -> Result<Damping, SceneError> {
         }
         (None, false) => 0.0,
     };
+    if matches!(name, Name::None)
+        && let Some(key) = [
+            ("fem.damping_factor", f.damping_factor),
+            ("fem.damping_time", f.damping_time),
+        ]
+        .into_iter()
+        .find_map(|(k, v)| v.map(|_| k))
+    {
+        return Err(inconsistent(
+            key,
+            "applies only with fem.damping (\"contact_only\", \"inserted\", …); without it nothing is damped",
+        ));
+    }
     let rate = match (f.damping_factor, f.damping_time) {
         (Some(_), Some(_)) => {
             return Err(inconsistent(
@@ -183,7 +196,13 @@ mod tests {
                 "damping = \"contact_only\"\ndamping_window = 1e-5",
                 "fem.damping_window",
             ),
-            ("damping_factor = 0.9\ndamping_time = 1e-4", "fem.damping_time"),
+            (
+                "damping = \"all_cohesive\"\ndamping_factor = 0.9\ndamping_time = 1e-4",
+                "fem.damping_time",
+            ),
+            // a rate without damping would damp nothing
+            ("damping_factor = 0.9", "fem.damping_factor"),
+            ("damping = \"none\"\ndamping_time = 1e-4", "fem.damping_time"),
             ("damping_time = -1.0", "fem.damping_time"),
             ("damping = \"sometimes\"", "fem.damping"),
         ] {

@@ -6,6 +6,7 @@ use super::damping::{Damping, damping};
 use super::diagnostics::{Diagnostics, diagnostics};
 use super::interface_spec::{
     ContactFriction, ContactSurface, InterfaceZone, contact_friction, sine_polyline, zones_and_surface,
+    zones_hold_facets,
 };
 use super::mesh::{MeshSpec, mesh};
 use super::paraview::{ParaviewSpec, paraview};
@@ -174,14 +175,25 @@ pub(crate) fn validate_fem(
     let damping = keep(errors, damping(f));
     let steps = keep(errors, step_and_penalties(f, duration));
     let distances = keep(errors, contact_distances(f));
-    let blocks = keep(errors, blocks_and_boundary(f, crack));
+    let blocks = keep(errors, blocks_and_boundary(f, crack, duration));
     if let (Some(m), Some((_, Some(b))), true) = (&mesh, &blocks, geometry_ok) {
         keep(errors, kinds_fit_parts(b, m));
     }
     let zones = keep(errors, zones_and_surface(f));
+    if let (Some((z, _)), true) = (&zones, geometry_ok)
+        && !z.is_empty()
+    {
+        keep(
+            errors,
+            zones_hold_facets(z, &cohesive_centres(f, crack, mesh.as_ref())),
+        );
+    }
     let contact_friction = keep(errors, contact_friction(f));
     let diagnostics = keep(errors, diagnostics(f, duration));
     let probes = keep(errors, probes(f));
+    if let (Some(m), Some(p), true) = (&mesh, &probes, geometry_ok) {
+        keep(errors, probes_in_body(p, m));
+    }
     let paraview = keep(errors, paraview(f, duration));
     let rough = rough(f, errors);
     let polyline = match (geometry_ok, &blocks, &mesh, rough) {
@@ -256,6 +268,19 @@ fn mesh_boundary(f: &RawFem, crack: Option<&Crack>, m: &MeshSpec) -> Result<(), 
         }
         Some(b) => {
             for (name, side) in b {
+                let roles = &m.roles;
+                if let Some(role) = [("interface", &roles.interface), ("pre_crack", &roles.pre_crack)]
+                    .into_iter()
+                    .find_map(|(role, names)| names.contains(name).then_some(role))
+                {
+                    return Err(inconsistent(
+                        format!("fem.boundary.{name}"),
+                        format!(
+                            "\"{name}\" is a crack curve (fem.mesh.{role}): its nodes are split in two, and a \
+                             condition would hold one face only; put it on a curve of the outer boundary"
+                        ),
+                    ));
+                }
                 let part = p
                     .boundary_nodes(name)
                     .map_err(|e| inconsistent(format!("fem.boundary.{name}"), e.to_string()))?;
@@ -384,7 +409,11 @@ fn contact_distances(f: &RawFem) -> Result<(f64, f64), SceneError> {
 
 /// Upper-block offset (full-width pre-crack only) and side-wise boundary conditions (required
 /// unless a centre pre-crack lets the Westergaard field apply).
-fn blocks_and_boundary(f: &RawFem, crack: Option<&Crack>) -> Result<(f64, Option<BoundarySpec>), SceneError> {
+fn blocks_and_boundary(
+    f: &RawFem,
+    crack: Option<&Crack>,
+    duration: f64,
+) -> Result<(f64, Option<BoundarySpec>), SceneError> {
     let upper_offset = f.upper_offset.unwrap_or(0.0);
     check(
         "fem.upper_offset",
@@ -401,7 +430,7 @@ fn blocks_and_boundary(f: &RawFem, crack: Option<&Crack>) -> Result<(f64, Option
             "needs a full-width pre-crack (two separate blocks)",
         ));
     }
-    let boundary = f.boundary.as_ref().map(boundary).transpose()?;
+    let boundary = f.boundary.as_ref().map(|b| boundary(b, duration)).transpose()?;
     if let (Some(b), None) = (&boundary, &f.mesh) {
         // the built-in grid has its four sides; other names are curves of a mesh file
         if let Some(c) = b.curves.iter().find(|c| !GRID_SIDES.contains(&c.name.as_str())) {
@@ -449,6 +478,43 @@ fn probes(f: &RawFem) -> Result<Vec<[f64; 2]>, SceneError> {
         )?;
     }
     Ok(probes)
+}
+
+/// On a mesh, each probe lies in an element of the body (not in a notch or a hole inside the
+/// bounding box, where the nearest node would be on the hole's edge).
+fn probes_in_body(probes: &[[f64; 2]], m: &MeshSpec) -> Result<(), SceneError> {
+    for (k, p) in probes.iter().enumerate() {
+        if !m.prepared.contains(nalgebra::Vector2::new(p[0], p[1])) {
+            return Err(inconsistent(
+                format!("fem.probes[{k}]"),
+                format!("({}, {}) m lies in no element of the body", p[0], p[1]),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Centres of the cohesive facets in interface coordinates [m]: the grid's columns outside the
+/// pre-crack, or the mesh's interface facets.
+fn cohesive_centres(f: &RawFem, crack: Option<&Crack>, mesh: Option<&MeshSpec>) -> Vec<f64> {
+    if let Some(m) = mesh {
+        let Some(row) = &m.prepared.row else {
+            return Vec::new();
+        };
+        return (0..row.num_facets())
+            .filter(|&c| row.kind[c] == crate::mesh::interfaces::FacetKind::Cohesive)
+            .map(|c| {
+                let [a, b] = row.facet_span(c);
+                0.5 * (a + b)
+            })
+            .collect();
+    }
+    let h = f.element_size;
+    let n = ((f.x_range[1] - f.x_range[0]) / h).round() as usize;
+    (0..n)
+        .map(|i| f.x_range[0] + (i as f64 + 0.5) * h)
+        .filter(|&x| crack.is_none_or(|c| (x - c.center_x).abs() >= c.half_length))
+        .collect()
 }
 
 /// Validates the row's path; `key` names it in errors (`fem.interface_polyline`, or the sine's

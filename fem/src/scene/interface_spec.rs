@@ -53,6 +53,16 @@ pub(crate) fn sine_polyline(f: &RawFem, s: &RawSine, center_x: f64) -> Result<Ve
     )?;
     check("fem.interface_sine.from", s.from, s.from >= 0.0, ">= 0 m")?;
     check("fem.interface_sine.to", s.to, s.to > s.from, "> from [m]")?;
+    // the sine is cut where the grid ends: a `to` beyond both ends is not the path asked for
+    let reach = (f.x_range[0] - center_x)
+        .abs()
+        .max((f.x_range[1] - center_x).abs());
+    check(
+        "fem.interface_sine.to",
+        s.to,
+        s.to <= reach * (1.0 + 1e-12),
+        &format!("<= {reach} m, the farthest |x − x_c| of fem.x_range"),
+    )?;
     if f.interface_polyline.is_some() {
         return Err(inconsistent(
             "fem.interface_sine",
@@ -153,6 +163,30 @@ pub(crate) fn zones_and_surface(f: &RawFem) -> Result<(Vec<InterfaceZone>, Conta
 pub(crate) fn in_range(x: f64, [x0, x1]: [f64; 2]) -> bool {
     const EPS: f64 = 1e-12;
     x >= x0 - EPS && x <= x1 + EPS
+}
+
+/// Each zone of `fem.interface_zones` must hold the centre of a cohesive facet (`centres`, in
+/// interface coordinates [m]): a zone beyond the interface or inside the pre-crack would change
+/// nothing, which the user cannot have meant.
+pub(crate) fn zones_hold_facets(zones: &[InterfaceZone], centres: &[f64]) -> Result<(), SceneError> {
+    for (k, z) in zones.iter().enumerate() {
+        if !centres.iter().any(|&x| in_range(x, z.x_range)) {
+            let (lo, hi) = centres
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                    (a.min(x), b.max(x))
+                });
+            return Err(inconsistent(
+                format!("fem.interface_zones[{k}].x_range"),
+                format!(
+                    "[{}, {}] m holds no cohesive facet (their centres lie in [{lo}, {hi}] m, in \
+                     interface coordinates, outside the pre-crack): the zone would change nothing",
+                    z.x_range[0], z.x_range[1]
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Index of the zone containing x [m] (1-based: 0 is the `[interface]` law).

@@ -128,8 +128,32 @@ pub(crate) fn mesh(
     let mut mesh = crate::gmsh::UnstructuredMesh::read(&file)
         .map_err(|e| inconsistent("fem.mesh.file", e.to_string()))?;
     mesh.scale(unit);
+    // a unit that overflows the coordinates, or shrinks the elements until their areas underflow,
+    // is the unit's fault, not the mesh's (nor the contact distances' derived from h)
+    let unit_error = |what: String| {
+        inconsistent(
+            "fem.mesh.unit",
+            format!(
+                "{} m per unit {what}: give the length of one unit of the file's coordinates in metres",
+                crate::error::number(unit)
+            ),
+        )
+    };
+    if mesh
+        .positions
+        .iter()
+        .any(|p| !(p.x.is_finite() && p.y.is_finite()))
+    {
+        return Err(unit_error("makes the coordinates overflow".into()));
+    }
     let prepared = prepare(mesh, &roles)
         .map_err(|e| inconsistent(format!("fem.mesh.{}", e.role), e.error.to_string()))?;
+    if !(prepared.h_min * prepared.h_min).is_normal() {
+        return Err(unit_error(format!(
+            "puts the element areas beyond floating point (the smallest element length comes out as {} m)",
+            crate::error::number(prepared.h_min)
+        )));
+    }
     // the interface's shortest and mean facet (the smallest element without an interface)
     let (shortest, mean) = prepared
         .facet_lengths()
@@ -177,7 +201,8 @@ pub(crate) fn mesh(
     )))
 }
 
-/// The file (resolved) and the roles.
+/// The file (resolved) and the roles. A group listed twice, in one role or in both crack roles,
+/// is refused: each group has one role (a curve cannot be a pre-crack and a cohesive interface).
 fn roles(m: &RawMesh, base_dir: Option<&Path>) -> Result<(PathBuf, MeshRoles), SceneError> {
     let Some(file) = &m.file else {
         return Err(inconsistent(
@@ -191,6 +216,35 @@ fn roles(m: &RawMesh, base_dir: Option<&Path>) -> Result<(PathBuf, MeshRoles), S
         _ => path.to_path_buf(),
     };
     let list = |v: &Option<Vec<String>>| v.clone().unwrap_or_default();
+    let named = [
+        ("bulk", &m.bulk),
+        ("pre_crack", &m.pre_crack),
+        ("interface", &m.interface),
+    ];
+    for (k, (role, names)) in named.iter().enumerate() {
+        for (i, name) in names.iter().flat_map(|v| v.iter()).enumerate() {
+            // the same list earlier, or (the curves) the other crack role
+            let again = names.as_ref().is_some_and(|v| v[..i].contains(name));
+            let other = named[k + 1..]
+                .iter()
+                .filter(|(r, _)| *role != "bulk" && *r != "bulk")
+                .find(|(_, v)| v.as_ref().is_some_and(|v| v.contains(name)));
+            if again {
+                return Err(inconsistent(
+                    format!("fem.mesh.{role}"),
+                    format!("lists \"{name}\" twice"),
+                ));
+            }
+            if let Some((r, _)) = other {
+                return Err(inconsistent(
+                    format!("fem.mesh.{r}"),
+                    format!(
+                        "lists \"{name}\", which fem.mesh.{role} lists too: a curve is a pre-crack or a cohesive interface"
+                    ),
+                ));
+            }
+        }
+    }
     Ok((
         file,
         MeshRoles {

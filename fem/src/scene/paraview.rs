@@ -121,7 +121,7 @@ mod tests {
             let e = Scene::from_toml_str(&with_paraview(bad)).unwrap_err().to_string();
             let expect = format!(
                 "line {line}: fem.paraview.interval = {}",
-                bad.parse::<f64>().unwrap()
+                crate::error::number(bad.parse::<f64>().unwrap())
             );
             assert!(e.contains(&expect) && e.contains(why), "{bad}: {e}");
         }
