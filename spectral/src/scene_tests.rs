@@ -61,3 +61,28 @@ fn variants_are_validated_like_the_file() {
     assert!((v.grid_spacing() - 2.0 * s.grid_spacing()).abs() < 1e-15);
     assert!(s.with_grid_points(3).is_err());
 }
+
+/// A ramp that starts at or after T never reaches its final value and is refused naming the key;
+/// a constant (initial = final) is no ramp, so its start may lie anywhere (the FE model's rule).
+#[test]
+fn a_ramp_after_the_run_is_refused_and_a_late_constant_is_not() {
+    let ramp = "normal = { initial = 0.0, final = -0.05e6, ramp_start = 0.0, ramp_end = 0.004 }";
+    assert!(SCENE.contains(ramp));
+    let late = SCENE.replace(
+        ramp,
+        &ramp.replace(
+            "ramp_start = 0.0, ramp_end = 0.004",
+            "ramp_start = 0.03, ramp_end = 0.04",
+        ),
+    );
+    let err = Scene::from_toml_str(&late).unwrap_err().to_string();
+    assert!(
+        err.contains("loading.normal.ramp_start") && err.contains("never reaches"),
+        "{err}"
+    );
+    let constant = late.replace(
+        "initial = 0.0, final = -0.05e6",
+        "initial = -0.05e6, final = -0.05e6",
+    );
+    assert!(Scene::from_toml_str(&constant).is_ok());
+}

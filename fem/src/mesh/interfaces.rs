@@ -20,6 +20,21 @@ pub(crate) enum FacetKind {
     Plain,
 }
 
+impl FacetKind {
+    /// The kind of the grid's facet whose midpoint lies at x = `mid` [m]: pre-crack where
+    /// |mid − x_c| < a for `crack` = (x_c, a) [m], cohesive elsewhere if `cohesive` is set (an
+    /// `[interface]` is given), plain otherwise.
+    pub(crate) fn of_grid_facet(mid: f64, crack: Option<(f64, f64)>, cohesive: bool) -> FacetKind {
+        if crack.is_some_and(|(xc, a)| (mid - xc).abs() < a) {
+            FacetKind::PreCrack
+        } else if cohesive {
+            FacetKind::Cohesive
+        } else {
+            FacetKind::Plain
+        }
+    }
+}
+
 /// The facets of the twinned row, facet c between columns c and c+1.
 #[derive(Debug, Clone)]
 pub(crate) struct InterfaceRow {
@@ -65,8 +80,7 @@ pub(crate) const NO_JUNCTION: u32 = u32::MAX;
 pub(crate) const NO_FACET: u32 = u32::MAX;
 
 impl InterfaceRow {
-    /// Classifies the facets of the twinned row: pre-crack where the facet midpoint satisfies
-    /// |x − x_c| < a, cohesive elsewhere if `cohesive` is set, plain otherwise.
+    /// Classifies the facets of the twinned row ([`FacetKind::of_grid_facet`]).
     pub fn new(grid: &Grid, crack: Option<(f64, f64)>, cohesive: bool) -> Option<InterfaceRow> {
         let row = grid.twinned_row?;
         let nx = grid.nx;
@@ -95,15 +109,8 @@ impl InterfaceRow {
         out.coord = out.minus.iter().map(|&n| grid.x0[n as usize].x).collect();
         for c in 0..nx {
             let (xa, xb) = (grid.x0[out.minus[c] as usize], grid.x0[out.minus[c + 1] as usize]);
-            let mid = 0.5 * (xa.x + xb.x);
-            let pre = crack.is_some_and(|(xc, a)| (mid - xc).abs() < a);
-            out.kind.push(if pre {
-                FacetKind::PreCrack
-            } else if cohesive {
-                FacetKind::Cohesive
-            } else {
-                FacetKind::Plain
-            });
+            out.kind
+                .push(FacetKind::of_grid_facet(0.5 * (xa.x + xb.x), crack, cohesive));
             let t = xb - xa;
             out.length.push(t.norm());
             out.normal.push(Vector2::new(-t.y, t.x) / t.norm());

@@ -14,6 +14,7 @@ use super::problem::Crack;
 use super::raw::RawFem;
 use super::rough::{Rough, rough, rough_polyline};
 use crate::error::SceneError;
+use crate::mesh::interfaces::FacetKind;
 
 /// Largest allowed safety factor α of the stable step (docs/fem-model.md §2, §10.10).
 ///
@@ -494,15 +495,15 @@ fn probes_in_body(probes: &[[f64; 2]], m: &MeshSpec) -> Result<(), SceneError> {
     Ok(())
 }
 
-/// Centres of the cohesive facets in interface coordinates [m]: the grid's columns outside the
-/// pre-crack, or the mesh's interface facets.
+/// Centres of the cohesive facets in interface coordinates [m]: the grid's facets classified as
+/// the build classifies them, or the mesh's interface facets.
 fn cohesive_centres(f: &RawFem, crack: Option<&Crack>, mesh: Option<&MeshSpec>) -> Vec<f64> {
     if let Some(m) = mesh {
         let Some(row) = &m.prepared.row else {
             return Vec::new();
         };
         return (0..row.num_facets())
-            .filter(|&c| row.kind[c] == crate::mesh::interfaces::FacetKind::Cohesive)
+            .filter(|&c| row.kind[c] == FacetKind::Cohesive)
             .map(|c| {
                 let [a, b] = row.facet_span(c);
                 0.5 * (a + b)
@@ -511,9 +512,10 @@ fn cohesive_centres(f: &RawFem, crack: Option<&Crack>, mesh: Option<&MeshSpec>) 
     }
     let h = f.element_size;
     let n = ((f.x_range[1] - f.x_range[0]) / h).round() as usize;
+    let crack = crack.map(|c| (c.center_x, c.half_length));
     (0..n)
         .map(|i| f.x_range[0] + (i as f64 + 0.5) * h)
-        .filter(|&x| crack.is_none_or(|c| (x - c.center_x).abs() >= c.half_length))
+        .filter(|&x| FacetKind::of_grid_facet(x, crack, true) == FacetKind::Cohesive)
         .collect()
 }
 

@@ -216,43 +216,36 @@ fn roles(m: &RawMesh, base_dir: Option<&Path>) -> Result<(PathBuf, MeshRoles), S
         _ => path.to_path_buf(),
     };
     let list = |v: &Option<Vec<String>>| v.clone().unwrap_or_default();
-    let named = [
-        ("bulk", &m.bulk),
-        ("pre_crack", &m.pre_crack),
-        ("interface", &m.interface),
-    ];
-    for (k, (role, names)) in named.iter().enumerate() {
-        for (i, name) in names.iter().flat_map(|v| v.iter()).enumerate() {
-            // the same list earlier, or (the curves) the other crack role
-            let again = names.as_ref().is_some_and(|v| v[..i].contains(name));
-            let other = named[k + 1..]
-                .iter()
-                .filter(|(r, _)| *role != "bulk" && *r != "bulk")
-                .find(|(_, v)| v.as_ref().is_some_and(|v| v.contains(name)));
-            if again {
-                return Err(inconsistent(
-                    format!("fem.mesh.{role}"),
-                    format!("lists \"{name}\" twice"),
-                ));
-            }
-            if let Some((r, _)) = other {
-                return Err(inconsistent(
-                    format!("fem.mesh.{r}"),
-                    format!(
-                        "lists \"{name}\", which fem.mesh.{role} lists too: a curve is a pre-crack or a cohesive interface"
-                    ),
-                ));
-            }
+    let roles = MeshRoles {
+        bulk: list(&m.bulk),
+        pre_crack: list(&m.pre_crack),
+        interface: list(&m.interface),
+    };
+    for (role, names) in [
+        ("bulk", &roles.bulk),
+        ("pre_crack", &roles.pre_crack),
+        ("interface", &roles.interface),
+    ] {
+        if let Some(name) = names
+            .iter()
+            .enumerate()
+            .find_map(|(i, n)| names[..i].contains(n).then_some(n))
+        {
+            return Err(inconsistent(
+                format!("fem.mesh.{role}"),
+                format!("lists \"{name}\" twice"),
+            ));
         }
     }
-    Ok((
-        file,
-        MeshRoles {
-            bulk: list(&m.bulk),
-            pre_crack: list(&m.pre_crack),
-            interface: list(&m.interface),
-        },
-    ))
+    if let Some(name) = roles.interface.iter().find(|n| roles.pre_crack.contains(n)) {
+        return Err(inconsistent(
+            "fem.mesh.interface",
+            format!(
+                "lists \"{name}\", which fem.mesh.pre_crack lists too: a curve is a pre-crack or a cohesive interface"
+            ),
+        ));
+    }
+    Ok((file, roles))
 }
 
 /// `[fem.mesh.laws]`: a cohesive law per interface curve, by the curve's name; the other curves
