@@ -76,7 +76,7 @@ pub(crate) fn contact_means(model: &Model, st: &State, t: f64) -> ContactMeanRec
 
 /// Appends one snapshot of every grid point.
 pub(crate) fn fields(model: &Model, st: &State, t: f64, out: &mut Vec<FieldRecord>) {
-    let smax = model.cohesive.sigma_max;
+    let smax = model.law.cohesive.sigma_max;
     for m in 0..model.n {
         let p = &st.points[m];
         let s = p.strength;

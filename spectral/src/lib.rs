@@ -31,8 +31,8 @@ pub use error::{BuildError, RunError, SceneError};
 pub use estimate::estimate;
 pub use output::{ContactMeanRecord, FieldRecord, RunOutput, RunStats, TipRecord, write_csv};
 pub use scene::{
-    Convolution, DEFAULT_FAST_TOLERANCE, InitialInterface, Nucleation, Ramp, Scene, WaveSpeeds,
-    rayleigh_ratio,
+    ContactFriction, Convolution, DEFAULT_FAST_TOLERANCE, InitialInterface, Nucleation, Ramp, Scene,
+    WaveSpeeds, rayleigh_ratio,
 };
 
 /// Runs the scene from t = 0 to T = `[loading].duration`.

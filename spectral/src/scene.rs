@@ -5,6 +5,7 @@
 use serde::Deserialize;
 
 use crate::error::SceneError;
+pub use crate::law::point::ContactFriction;
 
 /// Plane-strain wave speeds [m/s].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -101,6 +102,7 @@ struct RawCrack {
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 struct RawFriction {
     friction_coeff: f64,
+    contact_friction: Option<String>,
 }
 
 #[derive(Debug, Clone, PartialEq, Deserialize)]
@@ -151,8 +153,10 @@ pub struct Scene {
     pub half_length: f64,
     /// Pre-crack centre x [m]; the grid is centred on it.
     pub center_x: f64,
-    /// Coulomb friction coefficient on contacting broken points [-].
+    /// Coulomb friction coefficient μ [-].
     pub friction_coeff: f64,
+    /// Where friction acts (`[friction] contact_friction`; default `all_faces`).
+    pub contact_friction: ContactFriction,
     /// Run duration T [s].
     pub duration: f64,
     /// Far-field s_yy(t) ramp [Pa].
@@ -206,6 +210,11 @@ impl Scene {
     /// The same scene with Coulomb coefficient μ [-] on contacting broken points.
     pub fn with_friction_coeff(&self, friction_coeff: f64) -> Result<Scene, SceneError> {
         self.variant(|r| r.friction.friction_coeff = friction_coeff)
+    }
+
+    /// The same scene with friction acting where `rule` says (`[friction] contact_friction`).
+    pub fn with_contact_friction(&self, rule: ContactFriction) -> Result<Scene, SceneError> {
+        self.variant(|r| r.friction.contact_friction = Some(contact_friction_name(rule).to_string()))
     }
 
     /// The same scene stepped with Δt [s] (replaces `cs_dt_over_dx`; paper §3.2 runs the spectral
@@ -267,6 +276,14 @@ impl Scene {
     /// Pre-crack centre x [m].
     pub fn center_x(&self) -> f64 {
         self.center_x
+    }
+
+    /// The scene's name of a friction rule.
+    pub fn contact_friction_name(rule: ContactFriction) -> &'static str {
+        match rule {
+            ContactFriction::AllFaces => "all_faces",
+            ContactFriction::FailedOnly => "failed_only",
+        }
     }
 
     /// Process-zone size l_p = E G_c/σ_c², G_c = σ_c δ_c/2 [m].
@@ -409,6 +426,17 @@ fn validate(r: RawScene) -> Result<Scene, SceneError> {
         (0.0..=10.0).contains(&mu_f),
         "[0, 10]",
     );
+    let contact_friction = match r.friction.contact_friction.as_deref() {
+        None | Some("all_faces") => ContactFriction::AllFaces,
+        Some("failed_only") => ContactFriction::FailedOnly,
+        Some(other) => {
+            p.inconsistent(
+                "friction.contact_friction",
+                format!("\"{other}\" is not allowed; allowed \"all_faces\" (default) or \"failed_only\""),
+            );
+            ContactFriction::AllFaces
+        }
+    };
     let l = &r.loading;
     let duration = p.num("loading.duration", l.duration, l.duration > 0.0, "> 0 s");
     let t_end = duration.unwrap_or(f64::INFINITY);
@@ -574,6 +602,7 @@ fn validate(r: RawScene) -> Result<Scene, SceneError> {
         half_length: r.crack.half_length,
         center_x: r.crack.center_x,
         friction_coeff: mu_f,
+        contact_friction,
         duration: l.duration,
         normal: l.normal,
         shear: l.shear,
@@ -591,6 +620,14 @@ fn validate(r: RawScene) -> Result<Scene, SceneError> {
         initial_interface,
         raw,
     })
+}
+
+/// The scene's name of a friction rule.
+pub fn contact_friction_name(rule: ContactFriction) -> &'static str {
+    match rule {
+        ContactFriction::AllFaces => "all_faces",
+        ContactFriction::FailedOnly => "failed_only",
+    }
 }
 
 /// Process-zone size l_p = E G_c/σ_c² with G_c = σ_c δ_c/2 [m] (the scale the grid must resolve).

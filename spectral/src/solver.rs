@@ -6,10 +6,8 @@ use rayon::prelude::*;
 
 use crate::elastodynamics::{FaceFields, HalfSpaceParams, HalfSpaces};
 use crate::error::BuildError;
-use crate::law::PointState;
-use crate::law::cohesive::{self, CohesiveParams, Strength};
-use crate::law::contact::{self, NormalBranch, NormalInput};
-use crate::law::friction;
+use crate::law::cohesive::{CohesiveParams, Strength};
+use crate::law::point::{self, Drive, Point, PointLaw};
 use crate::loading;
 use crate::scene::{InitialInterface, Scene};
 
@@ -20,30 +18,11 @@ pub(crate) struct Model {
     pub x: Vec<f64>,
     pub center_index: usize,
     pub on_precrack: Vec<bool>,
-    pub cohesive: CohesiveParams,
-    pub z_shear: f64,
-    pub z_normal: f64,
+    /// The per-point law: cohesion, impedances, friction and its rule.
+    pub law: PointLaw,
     pub v_limit: f64,
-    pub friction_coeff: f64,
-    pub relax: Option<f64>,
-    pub contact: bool,
     pub nucleation: Vec<f64>,
     pub scene: Scene,
-}
-
-/// Per-point interface state and step results (one record per grid point, so the law loop
-/// parallelises over points).
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Point {
-    pub strength: Strength,
-    /// Regularised normal stress σ̃ [Pa].
-    pub reg_normal: f64,
-    pub in_contact: bool,
-    pub slipping: bool,
-    /// (T_1, T_2) [Pa].
-    pub traction: [f64; 2],
-    /// Face velocities (top x, top y, bottom x, bottom y) [m/s].
-    pub v: [f64; 4],
 }
 
 /// Evolving state: face displacements (SoA, the FFT input) and per-point records.
@@ -77,17 +56,12 @@ pub(crate) fn build(scene: &Scene) -> Result<(Model, State, Workspace), BuildErr
     let cohesive = CohesiveParams::from_paper(scene.sigma_c, scene.delta_c, scene.beta, scene.kappa);
     let points = on_precrack
         .iter()
-        .map(|&c| Point {
-            strength: if c {
+        .map(|&c| {
+            Point::at_rest(if c {
                 Strength::precut(&cohesive)
             } else {
                 Strength::intact(&cohesive)
-            },
-            reg_normal: 0.0,
-            in_contact: false,
-            slipping: false,
-            traction: [0.0; 2],
-            v: [0.0; 4],
+            })
         })
         .collect();
     let dt = scene.time_step();
@@ -117,9 +91,16 @@ pub(crate) fn build(scene: &Scene) -> Result<(Model, State, Workspace), BuildErr
         x,
         center_index: n / 2,
         on_precrack,
-        cohesive,
-        z_shear: mu / w.cs,
-        z_normal: scene.eta() * mu / w.cs,
+        law: PointLaw {
+            cohesive,
+            z_shear: mu / w.cs,
+            z_normal: scene.eta() * mu / w.cs,
+            dt,
+            friction_coeff: scene.friction_coeff,
+            relax: (scene.t_star > 0.0).then(|| dt / scene.t_star),
+            contact: scene.contact,
+            rule: scene.contact_friction,
+        },
         v_limit: {
             // Blow-up guard: 1e3 × the largest particle velocity the loads and strengths can drive (σ/Z).
             let peak = [
@@ -134,9 +115,6 @@ pub(crate) fn build(scene: &Scene) -> Result<(Model, State, Workspace), BuildErr
             });
             1e3 * (peak + scene.nucleation.map_or(0.0, |n| n.shear.abs())) * w.cs / mu
         },
-        friction_coeff: scene.friction_coeff,
-        relax: (scene.t_star > 0.0).then(|| dt / scene.t_star),
-        contact: scene.contact,
         nucleation,
         scene: scene.clone(),
     };
@@ -174,8 +152,8 @@ pub(crate) fn step(model: &Model, st: &mut State, ws: &mut Workspace, n: u64) ->
         .min()
 }
 
-/// Interface law at point m (§5.4 order): strengths from δ^n → normal solve → [contact + friction
-/// update] → shear solve. Returns true if the velocity blew up.
+/// Interface law at point m (§5.4): the dynamic stresses S^± = T^0 + f^± and the jumps δ^n of
+/// the point, then [`point::step`]. Returns true if the velocity blew up.
 fn solve_point(
     model: &Model,
     (sxy, syy): (f64, f64),
@@ -185,36 +163,13 @@ fn solve_point(
     p: &mut Point,
 ) -> bool {
     let t01 = sxy + model.nucleation[m];
-    let (s1t, s1b) = (t01 + f.top_x[m], t01 + f.bottom_x[m]);
-    let (s2t, s2b) = (syy + f.top_y[m], syy + f.bottom_y[m]);
-    let opening = u.top_y[m] - u.bottom_y[m];
-    let slip = u.top_x[m] - u.bottom_x[m];
-    let mut s = cohesive::update(&model.cohesive, opening, slip, p.strength);
-    let normal = contact::solve(&NormalInput {
-        s_top: s2t,
-        s_bottom: s2b,
-        strength: s.sigma,
-        opening,
-        impedance: model.z_normal,
-        dt: model.dt,
-        contact: model.contact,
-    });
-    let in_contact = normal.branch == NormalBranch::Contact;
-    // eq. (14) at every step: towards the compressive traction in contact, towards 0 apart
-    let sigma = if in_contact { normal.traction } else { 0.0 };
-    p.reg_normal = friction::regularized_normal(p.reg_normal, sigma, model.relax);
-    let tau = if in_contact {
-        s.state = PointState::Contact;
-        model.friction_coeff * p.reg_normal.abs()
-    } else {
-        s.tau
+    let drive = Drive {
+        shear: (t01 + f.top_x[m], t01 + f.bottom_x[m]),
+        normal: (syy + f.top_y[m], syy + f.bottom_y[m]),
+        opening: u.top_y[m] - u.bottom_y[m],
+        slip: u.top_x[m] - u.bottom_x[m],
     };
-    p.in_contact = normal.branch == NormalBranch::Contact;
-    let shear = friction::solve_shear(s1t, s1b, tau, model.z_shear);
-    p.strength = s;
-    p.slipping = shear.slipping;
-    p.traction = [shear.traction, normal.traction];
-    p.v = [shear.v_top, normal.v_top, shear.v_bottom, normal.v_bottom];
+    *p = point::step(&model.law, &drive, p);
     let vmax = p.v.iter().fold(0.0f64, |a, v| a.max(v.abs()));
     vmax.is_nan() || vmax > model.v_limit
 }

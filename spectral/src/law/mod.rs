@@ -8,6 +8,7 @@
 pub mod cohesive;
 pub mod contact;
 pub mod friction;
+pub mod point;
 
 /// State of an interface point (cRacklet's `ind`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, serde::Serialize)]
