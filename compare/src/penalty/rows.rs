@@ -100,7 +100,7 @@ pub fn mean_rows(factor: u32, scene: &fem::Scene, out: &fem::RunOutput) -> Vec<M
         .collect()
 }
 
-/// The summary row of one run: profile maximum and claim-7 window means against the far field.
+/// The summary row of one run: profile maximum and claim-3.6 window means against the far field.
 pub fn summary(factor: u32, scene: &fem::Scene, out: &fem::RunOutput) -> SummaryRow {
     let s_yy = scene.loading.normal.final_value.abs();
     let expect_t = scene.friction_coeff * s_yy;
@@ -211,7 +211,7 @@ pub(super) mod tests {
     }
 
     #[test]
-    fn summary_uses_the_claim_7_windows() {
+    fn summary_uses_the_claim_3_6_windows() {
         let r = summary(200, &scene(), &synthetic());
         assert_eq!(r.eps_factor, 200);
         assert!((r.max_penetration_over_2a_at_profile - 4e-5).abs() < 1e-15);

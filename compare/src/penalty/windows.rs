@@ -60,7 +60,7 @@ pub fn window_mean(
     (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
 }
 
-/// The claim-7 windows of one run and the mean tractions over them.
+/// The claim-3.6 windows of one run and the mean tractions over them.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MeanTractions {
     /// Onset of insertion (end of both windows) [s].

@@ -2,20 +2,20 @@
 //! (`scenes/tiny-fem-arc-shear.toml`, `meshes/arc.msh`): a circular arc of radius R = 1.80278 m
 //! cut into 22 facets (chords of h ≈ 0.096 m) that slope between −32° and +32°, pressed and then
 //! sheared until the whole arc has broken and its faces slide on each other with friction. Three
-//! claims, read from one run through its records and through field snapshots taken after every
-//! step by a sink in this module, which measures the geometry itself:
-//! 1. the cohesive energy the run's audit books as dissipated is G_c times the length of the
-//!    broken facets, and every facet is fully broken (no partly damaged facet holds energy that
-//!    would still be dissipated or returned);
-//! 2. no crack-face node penetrates the opposite face deeper than p_max/ε_n, the penetration
-//!    measured here from the node positions along the normal of the opposite facet the node lies
-//!    over; every node in contact carries exactly ε_n times that penetration, and none penetrates
-//!    without a contact pressure;
-//! 3. each facet is inserted at the first step at which the mean stress of its two elements,
-//!    resolved on the facet's own normal, reaches σ_c (paper App. A), and its cohesive element
-//!    starts from that resolved traction σ n_f. The same stresses resolved on the straight
-//!    interface's normal (0, 1) miss σ_c by up to 79 % at those steps, so insertion on a global
-//!    normal would fail both checks.
+//! claims (docs/claims.md, rows M.1–M.3), read from one run through its records and through field
+//! snapshots taken after every step by a sink in this module, which measures the geometry itself:
+//! - M.1: the cohesive energy the run's audit books as dissipated is G_c times the length of the
+//!   broken facets, and every facet is fully broken (no partly damaged facet holds energy that
+//!   would still be dissipated or returned);
+//! - M.2: no crack-face node penetrates the opposite face deeper than p_max/ε_n, the penetration
+//!   measured here from the node positions along the normal of the opposite facet the node lies
+//!   over; every node in contact carries exactly ε_n times that penetration, and none penetrates
+//!   without a contact pressure;
+//! - M.3: each facet is inserted at the first step at which the mean stress of its two elements,
+//!   resolved on the facet's own normal, reaches σ_c (paper App. A), and its cohesive element
+//!   starts from that resolved traction σ n_f. The same stresses resolved on the straight
+//!   interface's normal (0, 1) miss σ_c by up to 79 % at those steps, so insertion on a global
+//!   normal would fail both checks.
 
 use fem::nalgebra::Vector2;
 use fem::output::paraview::{FieldPiece, FieldSink, FieldSnapshot, FieldValues};
@@ -27,7 +27,7 @@ const FACET_INTACT: i32 = 1;
 /// `facet_state`: both Gauss points fully damaged, a traction-free crack face.
 const FACET_FREE: i32 = 3;
 
-// Claim 1. A Gauss point that breaks dissipates exactly G_c in the law (κ = 1: whatever its mode
+// Claim M.1. A Gauss point that breaks dissipates exactly G_c in the law (κ = 1: whatever its mode
 // mix, paper eq. 1). The run integrates ∫T·dΔ per step with the trapezoid rule, exact on the
 // linear softening branch and on the secant unloading; what is left are the steps holding a kink
 // (insertion, full failure, a switch between loading, unloading and closing), each
@@ -40,21 +40,21 @@ const TOL_POINT_WORK_REL: f64 = 0.01;
 // The energy balance of the other FE tests, |residual| < 1 % of W_ext (measured 5.7e-4): the
 // dissipation is booked in an audit that closes.
 const TOL_BALANCE_REL: f64 = 0.01;
-// Claim 2. The model projects a slave node on its master facet as this test does, so the two
+// Claim M.2. The model projects a slave node on its master facet as this test does, so the two
 // penetrations agree to the round-off of positions of ~2 m (measured 1.2e-17 m); 1e-10 m leaves
 // five orders of magnitude below the smallest penetrations that matter (1e-5 m). A gap measured
 // vertically instead of along each facet's normal is off by the factor 1/cos θ, 6 to 18 % on the
 // flanks (θ = 20° to 32°): the model edited so fails with 7.9e-4 m (tried, not kept), while the
 // bound p_max/ε_n alone would still hold. Not tuned.
 const TOL_PENETRATION_M: f64 = 1e-10; // m
-// Claim 3. The snapshots carry the model's own element stresses (a T3's constant stress), so the
+// Claim M.3. The snapshots carry the model's own element stresses (a T3's constant stress), so the
 // resolved stress and traction are the model's up to the round-off of a few products: 1e-9 σ_c
 // (measured: 0, the same operations in the same order). Not tuned.
 const TOL_RESOLVED_REL: f64 = 1e-9;
-// Claim 3 can fail: at the insertion steps, the stresses resolved on (0, 1) must miss σ_c by far
+// Claim M.3 can fail: at the insertion steps, the stresses resolved on (0, 1) must miss σ_c by far
 // more than the tolerance on some facet (measured 79 %); 25 % is a floor, not a measurement. The
 // model edited to resolve on (0, 1) (tried, not kept) fails at its first insertion (σ_eff on the
-// facet's own normal 0.79 σ_c, T_ins off by 8.3e4 Pa), and claim 1's per-point check with it.
+// facet's own normal 0.79 σ_c, T_ins off by 8.3e4 Pa), and claim M.1's per-point check with it.
 const MIN_GLOBAL_NORMAL_MISS: f64 = 0.25;
 
 /// Per-step observations of one run, gathered by the field sink.
@@ -181,7 +181,7 @@ impl Watch {
         self.peak = vec![0.0; nf];
     }
 
-    /// Claim 3 at one step: each facet's stress resolved on its own normal; an insertion is
+    /// Claim M.3 at one step: each facet's stress resolved on its own normal; an insertion is
     /// recorded with the resolved stress now and its largest value before.
     fn insertions(&mut self, t: f64, bulk: &FieldPiece, crack: &FieldPiece) {
         let (sxx, syy, sxy) = (
@@ -227,7 +227,7 @@ impl Watch {
         }
     }
 
-    /// Claim 2 at one step: every crack-face node's penetration of the opposite face, measured
+    /// Claim M.2 at one step: every crack-face node's penetration of the opposite face, measured
     /// along the normal of the opposite facet it lies over, against its contact pressure.
     fn penetrations(&mut self, t: f64, crack: &FieldPiece) {
         let np = crack.points.len() / 2;

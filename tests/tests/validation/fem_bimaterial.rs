@@ -1,29 +1,29 @@
 //! Two bulk materials on one Gmsh mesh (`[fem.mesh.materials]`; `scenes/tiny-fem-bimaterial.toml`,
 //! `meshes/bimaterial.msh`): a bar [0, 2.5] m × [0, 0.06] m, "soft" (E₁ = 70 MPa, ρ₁ = 1230 kg/m³)
-//! for x < 1 m and "stiff" (E₂ = 8E₁, ρ₂ = 2ρ₁, ν = 0.35 both) beyond. Three claims:
-//! 1. a P wave crossing the joint: with rollers on top and bottom (u_y = 0) every column of nodes
-//!    moves as one, so the wave is that of a laterally constrained bar, ε_yy = ε_zz = 0, speed
-//!    c = √((λ + 2G)/ρ) = c_d of plane strain and impedance Z = ρ c_d (σ_xx = −Z v for a wave
-//!    running along +x). A push p on the left end sends v_I = p/Z₁; continuity of v and σ_xx at the
-//!    joint gives the transmitted velocity v_T = T v_I with T = 2Z₁/(Z₁ + Z₂), and the reflected
-//!    stress σ_R = R σ_I with R = (Z₂ − Z₁)/(Z₁ + Z₂) (so v_R = −R v_I). Here Z₂ = 4Z₁: T = 0.4,
-//!    R = 0.6. The transit times between two probes in each material are their distance over
-//!    that material's c_d;
-//! 2. the stable step is α times min_e h_e/c_d,e, each element with its own length and its own
-//!    material's c_d: the larger elements of the stiff part (h = 0.015 m, c_d = 604 m/s) set it,
-//!    not the smallest element (h = 0.01 m, soft) and not the first material;
-//! 3. with the joint a cohesive interface, a bar pulled slowly breaks there when the uniform
-//!    σ_xx = u_end/(L₁/M₁ + L₂/M₂) (M = λ + 2G of each part) reaches σ_c, the insertion check
-//!    reading each side's stress with its own material; the energy audit of the run closes.
-//! 4. the bulk-only driver (`fem::solver::unstructured`, a Rust API without a scene) with the
-//!    stiff surface's material given (`UnstructuredDriver::with_materials`): the left end moved
-//!    at a velocity that rises smoothly to v₀ sends the same P wave, crossing the joint with the
-//!    same T and R, and its step is α min_e h_e/c_d,e.
+//! for x < 1 m and "stiff" (E₂ = 8E₁, ρ₂ = 2ρ₁, ν = 0.35 both) beyond. Four claims (docs/claims.md):
+//! - BM.1: a P wave crossing the joint: with rollers on top and bottom (u_y = 0) every column of
+//!   nodes moves as one, so the wave is that of a laterally constrained bar, ε_yy = ε_zz = 0, speed
+//!   c = √((λ + 2G)/ρ) = c_d of plane strain and impedance Z = ρ c_d (σ_xx = −Z v for a wave
+//!   running along +x). A push p on the left end sends v_I = p/Z₁; continuity of v and σ_xx at the
+//!   joint gives the transmitted velocity v_T = T v_I with T = 2Z₁/(Z₁ + Z₂), and the reflected
+//!   stress σ_R = R σ_I with R = (Z₂ − Z₁)/(Z₁ + Z₂) (so v_R = −R v_I). Here Z₂ = 4Z₁: T = 0.4,
+//!   R = 0.6. The transit times between two probes in each material are their distance over
+//!   that material's c_d;
+//! - BM.2: the stable step is α times min_e h_e/c_d,e, each element with its own length and its
+//!   own material's c_d: the larger elements of the stiff part (h = 0.015 m, c_d = 604 m/s) set
+//!   it, not the smallest element (h = 0.01 m, soft) and not the first material;
+//! - BM.3: with the joint a cohesive interface, a bar pulled slowly breaks there when the uniform
+//!   σ_xx = u_end/(L₁/M₁ + L₂/M₂) (M = λ + 2G of each part) reaches σ_c, the insertion check
+//!   reading each side's stress with its own material; the energy audit of the run closes;
+//! - BM.4: the bulk-only driver (`fem::solver::unstructured`, a Rust API without a scene) with the
+//!   stiff surface's material given (`UnstructuredDriver::with_materials`): the left end moved
+//!   at a velocity that rises smoothly to v₀ sends the same P wave, crossing the joint with the
+//!   same T and R, and its step is α min_e h_e/c_d,e.
 
 use fem::nalgebra::Vector2;
 use validation::{repo_root, scene_text, with_overrides};
 
-// Claim 1. The probes sit at node columns; the scheme is the central difference with lumped
+// Claim BM.1. The probes sit at node columns; the scheme is the central difference with lumped
 // masses, whose dispersion at these Courant numbers (c Δt/h = 0.375 soft, 0.5 stiff) leaves a
 // ringing behind each front that the window means below average out. Measured: the incident
 // step against p/Z₁ (no joint in its way, so this is the scheme's own error) −0.47 %, T +0.49 %,
@@ -35,9 +35,9 @@ const TOL_AMPLITUDE_REL: f64 = 0.01;
 // (soft, Courant 0.375) and +0.15 % (stiff); 1 % is the bound asked of an arrival. The other
 // material's speed would be off by 50 % or 100 %. Not tuned.
 const TOL_TRANSIT_REL: f64 = 0.01;
-// Claim 2. Both sides compute α h/c_d from the same corners: equal to round-off (measured: equal).
+// Claim BM.2. Both sides compute α h/c_d from the same corners: equal to round-off (measured: equal).
 const TOL_STEP_REL: f64 = 1e-12;
-// Claim 3. The traction at which the joint's facets are inserted: the pull is slow (its ramp
+// Claim BM.3. The traction at which the joint's facets are inserted: the pull is slow (its ramp
 // lasts 0.1 s, 8.6 periods of the bar's lowest mode, 2 × 5.8 ms), so the stress is uniform up to
 // a dynamic overshoot, measured 7.4e-5 σ_c (5 % with a 20 ms ramp); 1 % as in the two-laws
 // test. The soft D read on the stiff side would give the stiff element 1/8 of the stress and
@@ -97,7 +97,7 @@ fn a_p_wave_crosses_the_joint_by_the_impedance_formulas() {
     assert_impedance_formulas(&p, PUSH / (SOFT.2 * p_wave(SOFT).1));
 }
 
-/// Claim 1 on the probes `p` ((x [m], (t [s], v_x [m/s]) samples) of the scene's four points)
+/// Claim BM.1 on the probes `p` ((x [m], (t [s], v_x [m/s]) samples) of the scene's four points)
 /// of a wave whose incident particle velocity is `v_push` [m/s].
 fn assert_impedance_formulas(p: &[(f64, Vec<(f64, f64)>)], v_push: f64) {
     let ((_, c1), (_, c2)) = (p_wave(SOFT), p_wave(STIFF));
@@ -138,7 +138,7 @@ fn assert_impedance_formulas(p: &[(f64, Vec<(f64, f64)>)], v_push: f64) {
     assert!((stiff_transit / stiff_expect - 1.0).abs() < TOL_TRANSIT_REL);
 }
 
-/// The left end's x motion of claim 4: v = v₀ S(t/τ) with the quintic smoothstep
+/// The left end's x motion of claim BM.4: v = v₀ S(t/τ) with the quintic smoothstep
 /// S(s) = s³(10 − 15s + 6s²), then v₀; u = v₀τ(2.5s⁴ − 3s⁵ + s⁶), then v₀(t − τ/2)
 /// ([u [m], v [m/s]] at t [s]).
 fn smooth_start(v0: f64, tau: f64) -> impl Fn(f64) -> [f64; 2] {
@@ -185,7 +185,7 @@ fn the_bulk_only_driver_with_two_materials_sends_the_wave_across_the_joint_alike
     };
     let mut driver =
         UnstructuredDriver::with_materials(&mesh, &material(SOFT), &stiff, &bcs, &options).unwrap();
-    // claim 2: the stiff part's larger elements set the step, as in the scene
+    // claim BM.2: the stiff part's larger elements set the step, as in the scene
     let expect = 0.5 * min_transit(&mesh);
     println!("Δt {:.6e} s (α min h_e/c_d,e {expect:.6e} s)", driver.dt());
     assert!((driver.dt() / expect - 1.0).abs() < TOL_STEP_REL);

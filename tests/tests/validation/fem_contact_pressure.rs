@@ -58,7 +58,7 @@ fn non_matching_blocks_carry_the_applied_pressure_uniformly() {
         .iter()
         .fold((f64::MAX, f64::MIN), |(a, b), r| (a.min(r.2), b.max(r.2)));
     println!(
-        "claim 5: applied p = {APPLIED_PRESSURE:.4e} Pa; middle-half window ({} nodes): mean p_N = {mean_p:.6e} Pa, \
+        "contact: applied p = {APPLIED_PRESSURE:.4e} Pa; middle-half window ({} nodes): mean p_N = {mean_p:.6e} Pa, \
          max |p_N/p - 1| = {worst_p:.3e} (tol {TOL_PRESSURE_REL}), max |g/(p/eps_n) - 1| = {worst_g:.3e} \
          (tol {TOL_PENETRATION_REL}); whole face: {} contacting nodes, p_N in [{min_all:.4e}, {max_all:.4e}] Pa",
         window.len(),

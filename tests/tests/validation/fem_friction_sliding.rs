@@ -139,7 +139,7 @@ fn block_sheared_below_mu_p_sticks() {
     let mean_t = mean(last.nodes.iter().map(|n| n.1));
     let err = (mean_t / tau - 1.0).abs();
     println!(
-        "claim 6 stick: tau = {tau:.4e} Pa = 0.5 mu p; window max |T|/(mu p_N) = {worst_ratio:.4} (< 1: stick); \
+        "Coulomb stick: tau = {tau:.4e} Pa = 0.5 mu p; window max |T|/(mu p_N) = {worst_ratio:.4} (< 1: stick); \
          mean |T| at t = {:.4e} s: {mean_t:.5e} Pa (|rel err| {err:.3e}, tol {TOL_STICK_TRACTION_REL}); \
          max relative slide after the ramp {max_slide:.3e} m = {:.3e} h",
         last.t,
@@ -179,7 +179,7 @@ fn block_sheared_above_mu_p_slides_with_traction_mu_p() {
         .map(|s| (mean_tangential(s) / limit - 1.0).abs())
         .fold(0.0, f64::max);
     println!(
-        "claim 6 slip: tau = 1.5 mu p; mu p = {limit:.4e} Pa; window mean |T| over slide 1-5 h ({} samples): \
+        "Coulomb slip: tau = 1.5 mu p; mu p = {limit:.4e} Pa; window mean |T| over slide 1-5 h ({} samples): \
          max |rel err| {worst:.3e} (tol {TOL_SLIDING_TRACTION_REL})",
         early.len()
     );
@@ -220,14 +220,14 @@ fn sliding_over_20_h_shows_no_force_spike_above_5_percent() {
         }
     }
     println!(
-        "claim 6 spike: p before sliding {p_ref:.5e} Pa (nominal 0.05 MPa); {} samples over slide 1-20 h \
+        "sliding spike: p before sliding {p_ref:.5e} Pa (nominal 0.05 MPa); {} samples over slide 1-20 h \
          (final {:.2} h): per node max | |T_i|/(mu p) - 1 | = {nodal:.3e} at {at:.2} h; window friction force \
          max |F/(mu p L) - 1| = {force:.3e}; window normal force max |N/(p L) - 1| = {normal:.3e} (tol {TOL_SPIKE_REL})",
         sliding.len(),
         final_slide / H
     );
     println!(
-        "claim 6 slip (held blocks): window mean |T| vs mu x 0.05 MPa over slide 1-20 h: max |rel err| {nominal:.3e} \
+        "Coulomb slip (held blocks): window mean |T| vs mu x 0.05 MPa over slide 1-20 h: max |rel err| {nominal:.3e} \
          (tol {TOL_SLIDING_TRACTION_REL}; the closure dy is the uniaxial-strain value for 0.05 MPa)"
     );
     assert!(sliding.len() >= 500);

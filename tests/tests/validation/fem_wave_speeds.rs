@@ -48,7 +48,7 @@ fn measured_speed(boundary: &str, duration: f64, component: usize) -> (f64, fem:
     ((x2 - x1) / (t2 - t1), scene.wave_speeds())
 }
 
-/// Asserts a measured arrival speed against the expected wave speed (claim 2).
+/// Asserts a measured arrival speed against the expected plane-strain wave speed (c_d or c_s).
 pub(crate) fn check(label: &str, measured: f64, expected: f64) {
     let err = (measured - expected).abs() / expected;
     println!(
