@@ -43,6 +43,8 @@ pub struct Scene {
     pub crack: Option<Crack>,
     /// Coulomb coefficient μ [-] on crack faces.
     pub friction_coeff: f64,
+    /// Where contact friction acts (`[friction] contact_friction`, read by both models).
+    pub contact_friction: ContactFriction,
     /// Loading histories.
     pub loading: Loading,
     /// FE discretisation and options.
@@ -92,7 +94,31 @@ impl Scene {
 
     /// The same scene with Coulomb coefficient μ [-] on the crack faces.
     pub fn with_friction_coeff(&self, friction_coeff: f64) -> Result<Scene, SceneError> {
-        self.variant(|r| r.friction = Some(raw::RawFriction { friction_coeff }))
+        self.variant(|r| match &mut r.friction {
+            Some(f) => f.friction_coeff = friction_coeff,
+            None => {
+                r.friction = Some(raw::RawFriction {
+                    friction_coeff,
+                    contact_friction: None,
+                })
+            }
+        })
+    }
+
+    /// The same scene with contact friction acting where `rule` says (`[friction]
+    /// contact_friction`; a scene without `[friction]` gets μ = 0 with it).
+    pub fn with_contact_friction(&self, rule: ContactFriction) -> Result<Scene, SceneError> {
+        let name = match rule {
+            ContactFriction::AllFaces => "all_faces",
+            ContactFriction::FailedOnly => "failed_only",
+        };
+        self.variant(|r| {
+            let f = r.friction.get_or_insert(raw::RawFriction {
+                friction_coeff: 0.0,
+                contact_friction: None,
+            });
+            f.contact_friction = Some(name.to_string());
+        })
     }
 
     /// The same scene run with the hybrid or the standard model (paper Section 4).
@@ -246,6 +272,10 @@ fn validate(raw: RawScene) -> Result<Scene, SceneError> {
             "[0, 10]",
         ),
     );
+    let contact_friction = keep(
+        &mut errors,
+        interface_spec::contact_friction(raw.friction.as_ref()),
+    );
     let l = &raw.loading;
     let duration = keep(
         &mut errors,
@@ -270,8 +300,25 @@ fn validate(raw: RawScene) -> Result<Scene, SceneError> {
             &mut errors,
         )
     });
-    let (Some(material), Some(interface), Some(crack), Some(normal), Some(shear), Some(fem), Some(duration)) =
-        (material, interface, crack, normal, shear, fem, duration)
+    let (
+        Some(material),
+        Some(interface),
+        Some(crack),
+        Some(normal),
+        Some(shear),
+        Some(fem),
+        Some(duration),
+        Some(contact_friction),
+    ) = (
+        material,
+        interface,
+        crack,
+        normal,
+        shear,
+        fem,
+        duration,
+        contact_friction,
+    )
     else {
         return Err(collected(errors));
     };
@@ -281,6 +328,7 @@ fn validate(raw: RawScene) -> Result<Scene, SceneError> {
         interface,
         crack,
         friction_coeff,
+        contact_friction,
         loading: Loading {
             duration,
             normal,

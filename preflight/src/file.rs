@@ -75,12 +75,22 @@ pub fn unknown_keys(unknown: Vec<String>) -> Vec<Problem> {
     unknown
         .into_iter()
         .map(|key| Problem {
-            message: format!("unknown key {key}"),
+            message: match MOVED.iter().find(|(old, _)| *old == key) {
+                Some((_, why)) => format!("unknown key {key}: {why}"),
+                None => format!("unknown key {key}"),
+            },
             line: None,
             key,
         })
         .collect()
 }
+
+/// Keys that an earlier scene format had, each with where it went, so that an old scene is told
+/// what to write instead of only that the key is unknown.
+const MOVED: &[(&str, &str)] = &[(
+    "fem.contact_friction",
+    "moved to [friction] contact_friction, which both models read",
+)];
 
 /// Why a scene file was refused.
 #[derive(Debug, Clone, PartialEq)]

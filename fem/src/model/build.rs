@@ -197,7 +197,7 @@ pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State,
             ModelKind::Standard => ClosingTreatment::Standard { eps_n: f.eps_n },
         },
         insertion_rule: f.insertion_rule,
-        friction_failed_only: f.contact_friction == crate::scene::ContactFriction::FailedOnly,
+        friction_failed_only: scene.contact_friction == crate::scene::ContactFriction::FailedOnly,
         damping: f.damping.set,
         damping_factor: f.damping.factor(scene.time_step()),
         contact: scene.has_contact().then_some(ContactParams {

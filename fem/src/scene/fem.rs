@@ -5,8 +5,7 @@ use super::checks::{check, inconsistent, keep, option};
 use super::damping::{Damping, damping};
 use super::diagnostics::{Diagnostics, diagnostics};
 use super::interface_spec::{
-    ContactFriction, ContactSurface, InterfaceZone, contact_friction, sine_polyline, zones_and_surface,
-    zones_hold_facets,
+    ContactSurface, InterfaceZone, sine_polyline, zones_and_surface, zones_hold_facets,
 };
 use super::mesh::{MeshSpec, mesh};
 use super::paraview::{ParaviewSpec, paraview};
@@ -86,8 +85,6 @@ pub struct FemSpec {
     pub interface_zones: Vec<InterfaceZone>,
     /// Which faces form the contact detection surface.
     pub contact_surface: ContactSurface,
-    /// Where contact friction acts.
-    pub contact_friction: ContactFriction,
     /// Section 4 diagnostics the scene asks for (none by default).
     pub diagnostics: Diagnostics,
     /// Probe points (reference positions [m]); the nearest node is recorded.
@@ -189,7 +186,6 @@ pub(crate) fn validate_fem(
             zones_hold_facets(z, &cohesive_centres(f, crack, mesh.as_ref())),
         );
     }
-    let contact_friction = keep(errors, contact_friction(f));
     let diagnostics = keep(errors, diagnostics(f, duration));
     let probes = keep(errors, probes(f));
     if let (Some(m), Some(p), true) = (&mesh, &probes, geometry_ok) {
@@ -230,7 +226,6 @@ pub(crate) fn validate_fem(
         interface_polyline: polyline?,
         interface_zones,
         contact_surface,
-        contact_friction: contact_friction?,
         diagnostics: diagnostics?,
         probes: probes?,
         boundary,

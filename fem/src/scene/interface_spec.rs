@@ -3,7 +3,7 @@
 //! join the contact detection surface (`contact_surface`, paper eqs. (10) and (16)).
 
 use super::checks::{check, cohesive_law, inconsistent, option};
-use super::raw::{RawFem, RawSine, RawZone};
+use super::raw::{RawFem, RawFriction, RawSine, RawZone};
 use crate::error::SceneError;
 use crate::law::cohesive::LinearCohesive;
 
@@ -103,11 +103,12 @@ fn zone(f: &RawFem, k: usize, z: &RawZone) -> Result<InterfaceZone, SceneError> 
     })
 }
 
-/// Where contact friction acts (`fem.contact_friction`).
-pub(crate) fn contact_friction(f: &RawFem) -> Result<ContactFriction, SceneError> {
+/// Where contact friction acts (`friction.contact_friction`, a key of the shared problem: the
+/// spectral model reads it too).
+pub(crate) fn contact_friction(f: Option<&RawFriction>) -> Result<ContactFriction, SceneError> {
     option(
-        "fem.contact_friction",
-        f.contact_friction.as_ref(),
+        "friction.contact_friction",
+        f.and_then(|f| f.contact_friction.as_ref()),
         ContactFriction::AllFaces,
         &[
             ("all_faces", ContactFriction::AllFaces),

@@ -48,6 +48,7 @@ pub(crate) struct RawCrack {
 #[derive(Debug, Clone, Deserialize)]
 pub(crate) struct RawFriction {
     pub friction_coeff: f64,
+    pub contact_friction: Option<String>,
 }
 
 #[derive(Debug, Clone, Copy, Deserialize)]
@@ -119,7 +120,6 @@ pub(crate) struct RawFem {
     pub interface_rough: Option<RawRough>,
     pub interface_zones: Option<Vec<RawZone>>,
     pub contact_surface: Option<String>,
-    pub contact_friction: Option<String>,
     pub residual_stress_x: Option<[f64; 2]>,
     pub kkt_metric: Option<bool>,
     pub snapshot_times: Option<Vec<f64>>,
