@@ -36,6 +36,40 @@ impl ModelName {
     }
 }
 
+/// Where contact friction acts, in both models (`[friction] contact_friction`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FrictionRule {
+    /// On every closed face, partly damaged cohesive ones included, on top of the cohesive
+    /// shear: the hybrid model of the paper (§2.3, Fig. 4d).
+    AllFaces,
+    /// Only where the interface has fully failed.
+    FailedOnly,
+}
+
+impl FrictionRule {
+    /// The rule's name in a scene and in folder names.
+    pub fn name(self) -> &'static str {
+        match self {
+            FrictionRule::AllFaces => "all_faces",
+            FrictionRule::FailedOnly => "failed_only",
+        }
+    }
+
+    fn fem(self) -> fem::scene::ContactFriction {
+        match self {
+            FrictionRule::AllFaces => fem::scene::ContactFriction::AllFaces,
+            FrictionRule::FailedOnly => fem::scene::ContactFriction::FailedOnly,
+        }
+    }
+
+    fn spectral(self) -> spectral::ContactFriction {
+        match self {
+            FrictionRule::AllFaces => spectral::ContactFriction::AllFaces,
+            FrictionRule::FailedOnly => spectral::ContactFriction::FailedOnly,
+        }
+    }
+}
+
 /// The `[compare]` section: what the harness's jobs run. Unknown keys are refused (with the
 /// other problems of the file).
 #[derive(Debug, Clone, Default, PartialEq, Deserialize)]
@@ -208,6 +242,22 @@ impl Study {
                 s.with_grid_points(n)
                     .with_context(|| format!("the spectral model on N = {n} points"))
             })
+            .transpose()?;
+        Ok(Study {
+            fem,
+            spectral,
+            ..self.clone()
+        })
+    }
+
+    /// The same study with friction acting where `rule` says, in both models (`[friction]
+    /// contact_friction`, which both read). Both scenes are validated again.
+    pub fn with_friction_rule(&self, rule: FrictionRule) -> Result<Study> {
+        let fem = self.fem.with_contact_friction(rule.fem())?;
+        let spectral = self
+            .spectral
+            .as_ref()
+            .map(|s| s.with_contact_friction(rule.spectral()))
             .transpose()?;
         Ok(Study {
             fem,

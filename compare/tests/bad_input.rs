@@ -139,3 +139,31 @@ fn empty_and_unwritable_output_folders_are_refused_before_any_step() {
     );
     assert!(e.contains("output folder"), "{e}");
 }
+
+/// `--friction-rule` and `--open` belong to the comparison and `converged`; given to another job,
+/// or `--open` with a name that is no metric, they are refused before any step.
+#[test]
+fn friction_rule_and_open_metrics_are_checked_before_any_step() {
+    let text = scene_text("center-crack");
+    let e = refused(
+        "rule-job",
+        &["penalty"],
+        &text,
+        &["--friction-rule", "failed_only"],
+    );
+    assert!(e.contains("--friction-rule: taken by the comparison"), "{e}");
+    let e = refused(
+        "open-job",
+        &["boundary"],
+        &text,
+        &["--open", "tip_position_rms_over_a@0.3"],
+    );
+    assert!(e.contains("--open: taken by the comparison"), "{e}");
+    let e = refused("open-name", &[], &text, &["--open", "tip_rms@0.3"]);
+    assert!(
+        e.contains("--open tip_rms@0.3") && e.contains("tip_position_rms_over_a"),
+        "{e}"
+    );
+    let e = refused("rule-name", &[], &text, &["--friction-rule", "some"]);
+    assert!(e.contains("all_faces") && e.contains("failed_only"), "{e}");
+}
