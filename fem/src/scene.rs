@@ -426,6 +426,38 @@ mod tests {
         assert_eq!(r.value(5.0), 3.0);
     }
 
+    /// `[friction] contact_friction`: all_faces by default, failed_only on request, anything else
+    /// refused naming the key; the old `[fem]` key is refused naming where it went, and a variant
+    /// changes the rule without touching μ.
+    #[test]
+    fn the_friction_rule_is_a_key_of_the_shared_problem() {
+        let s = Scene::from_toml_str(&center_crack()).unwrap();
+        assert_eq!(s.contact_friction, ContactFriction::AllFaces);
+        let text = center_crack().replace("contact_friction = \"all_faces\"", "contact_friction = \"some\"");
+        let e = Scene::from_toml_str(&text).unwrap_err().to_string();
+        assert!(
+            e.contains("friction.contact_friction") && e.contains("failed_only"),
+            "{e}"
+        );
+        let old = center_crack()
+            .replace("contact_friction = \"all_faces\"", "")
+            .replacen("\n[fem] ", "\n[fem]\ncontact_friction = \"failed_only\"\n# ", 1);
+        let e = Scene::from_toml_str(&old).unwrap_err().to_string();
+        assert!(
+            e.contains("fem.contact_friction") && e.contains("moved to [friction]"),
+            "{e}"
+        );
+        let v = s.with_contact_friction(ContactFriction::FailedOnly).unwrap();
+        assert_eq!(v.contact_friction, ContactFriction::FailedOnly);
+        assert_eq!(v.friction_coeff, s.friction_coeff);
+        let back = v.with_friction_coeff(0.1).unwrap();
+        assert_eq!(
+            back.contact_friction,
+            ContactFriction::FailedOnly,
+            "μ changes keep the rule"
+        );
+    }
+
     #[test]
     fn bad_values_name_the_field() {
         let text = center_crack().replace("poisson_ratio = 0.35", "poisson_ratio = 0.6");

@@ -86,3 +86,29 @@ fn a_ramp_after_the_run_is_refused_and_a_late_constant_is_not() {
     );
     assert!(Scene::from_toml_str(&constant).is_ok());
 }
+
+/// `[friction] contact_friction`, the FE model's key and meaning: all_faces by default,
+/// failed_only on request, anything else refused naming the key; a variant changes the rule only.
+#[test]
+fn the_friction_rule_is_a_key_of_the_shared_problem() {
+    let text = SCENE.to_string();
+    let s = Scene::from_toml_str(&text).unwrap();
+    assert_eq!(s.contact_friction, ContactFriction::AllFaces);
+    let bad = text.replace("contact_friction = \"all_faces\"", "contact_friction = \"all\"");
+    let e = Scene::from_toml_str(&bad).unwrap_err().to_string();
+    assert!(
+        e.contains("friction.contact_friction") && e.contains("failed_only"),
+        "{e}"
+    );
+    let v = s.with_contact_friction(ContactFriction::FailedOnly).unwrap();
+    assert_eq!(v.contact_friction, ContactFriction::FailedOnly);
+    assert_eq!(
+        v.with_friction_coeff(0.1).unwrap().contact_friction,
+        ContactFriction::FailedOnly
+    );
+    let unset = text.replace("contact_friction = \"all_faces\"", "");
+    assert_eq!(
+        Scene::from_toml_str(&unset).unwrap().contact_friction,
+        ContactFriction::AllFaces
+    );
+}

@@ -131,7 +131,7 @@ fn check_rise_and_saturation(v: &[(f64, f64)], a: f64, cr: f64, side: &str) {
         "no slow start: the rise is not steep"
     );
     assert!(
-        mean >= MIN_SATURATED_MEAN_OVER_CR && mean <= 1.0,
+        (MIN_SATURATED_MEAN_OVER_CR..=1.0).contains(&mean),
         "no approach to c_R"
     );
     assert!(spread < at_rise_end - start, "the speed does not saturate");
