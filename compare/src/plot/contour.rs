@@ -102,13 +102,20 @@ impl CentroidGrid {
         out
     }
 
-    /// The point of index-space coordinates (column c, row r), c ∈ [0, ncols − 1],
-    /// r ∈ [0, nrows − 1], by bilinear interpolation of the four surrounding centroids.
-    fn at(&self, c: f64, r: f64) -> (f64, f64) {
-        let (c0, r0) = (
+    /// The index-space cell (first column, first row) that holds (c, r); a point on a shared
+    /// edge belongs to the cell above or to the right of it.
+    fn cell_of(&self, c: f64, r: f64) -> (usize, usize) {
+        (
             (c.floor() as usize).min(self.x.len() - 2),
             (r.floor() as usize).min(self.y.len() - 2),
-        );
+        )
+    }
+
+    /// The point of index-space coordinates (column c, row r) by bilinear interpolation of the
+    /// four centroids of `cell`, which must hold the point (on its edges included). A segment's
+    /// two ends are both mapped through the cell its midpoint lies in: an end on an edge shared
+    /// with a cell that has a missing corner would otherwise be interpolated there, to NaN.
+    fn at(&self, (c0, r0): (usize, usize), c: f64, r: f64) -> (f64, f64) {
         let (fc, fr) = (c - c0 as f64, r - r0 as f64);
         let x = self.x[c0] + fc * (self.x[c0 + 1] - self.x[c0]);
         let lerp = |row: &Vec<f64>| row[c0] + fc * (row[c0 + 1] - row[c0]);
@@ -116,12 +123,8 @@ impl CentroidGrid {
         (x, ya + fr * (yb - ya))
     }
 
-    /// Whether every corner of the index-space cell holding (c, r) is present.
-    fn complete(&self, c: f64, r: f64) -> bool {
-        let (c0, r0) = (
-            (c.floor() as usize).min(self.x.len() - 2),
-            (r.floor() as usize).min(self.y.len() - 2),
-        );
+    /// Whether every corner of the index-space cell is present.
+    fn complete(&self, (c0, r0): (usize, usize)) -> bool {
         [(r0, c0), (r0, c0 + 1), (r0 + 1, c0), (r0 + 1, c0 + 1)]
             .iter()
             .all(|&(i, j)| self.y[i][j].is_finite() && self.value[i][j].is_finite())
@@ -152,9 +155,9 @@ impl CentroidGrid {
                     let (Some(a), Some(b)) = (inside(&w[0]), inside(&w[1])) else {
                         continue;
                     };
-                    let mid = (0.5 * (a.0 + b.0), 0.5 * (a.1 + b.1));
-                    if a != b && self.complete(mid.0, mid.1) {
-                        out.push((self.at(a.0, a.1), self.at(b.0, b.1)));
+                    let cell = self.cell_of(0.5 * (a.0 + b.0), 0.5 * (a.1 + b.1));
+                    if a != b && self.complete(cell) {
+                        out.push((self.at(cell, a.0, a.1), self.at(cell, b.0, b.1)));
                     }
                 }
             }
@@ -213,6 +216,24 @@ mod tests {
         let col = |r: usize| g.y[r][2] + 0.3 * (g.y[r][3] - g.y[r][2]);
         assert!((lo - col(0)).abs() < 1e-12 && (hi - col(4)).abs() < 1e-12);
         assert!(g.contour(2.0).is_empty());
+    }
+
+    /// A window that cuts the top row leaves cells with a missing corner. A segment in the cell
+    /// below them ends on the edge it shares with them; that end used to be interpolated in the
+    /// incomplete cell, to a NaN ordinate, which the map drew as a line across the whole plot.
+    #[test]
+    fn segments_next_to_a_missing_corner_have_finite_ends() {
+        let mut s = samples(|x, _| x);
+        s.retain(|p| !(p.1 > 0.3 && p.0 > 0.25));
+        let g = CentroidGrid::from_row_major(&s);
+        let seg = g.contour(0.23);
+        assert_eq!(seg.len(), 3, "the cell row with a missing corner is left out");
+        for (a, b) in &seg {
+            for p in [a, b] {
+                assert!(p.0.is_finite() && p.1.is_finite(), "{a:?} {b:?}");
+                assert!((p.0 - 0.23).abs() < 1e-12, "{p:?}");
+            }
+        }
     }
 
     #[test]

@@ -145,6 +145,108 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
+    /// The picture itself: circles r² = x² + y² = 0.0625, 0.25, 0.5 on a grid whose window cuts
+    /// the top rows on the right, as a snapshot window cuts a mapped mesh. Every dark pixel drawn
+    /// where the field is sampled must lie on one of those circles (within 1.5 grid steps: the
+    /// iso-lines are traced linearly between centroids). Before the fix of
+    /// `CentroidGrid::contour`, segments ending on the edge of a cell with a missing corner got a
+    /// NaN end and were drawn as straight lines across the whole plot.
+    #[test]
+    fn a_map_draws_no_line_that_is_not_an_iso_line() {
+        let dir = std::env::temp_dir().join(format!("compare-map-pixels-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("map.png");
+        let (step, levels) = (0.025, [0.0625, 0.25, 0.5]);
+        // the window: the top three rows only up to x = 0
+        let sampled = |x: f64, y: f64| y <= 0.425 + 1e-9 || x <= 1e-9;
+        let mut samples = Vec::new();
+        for r in 0..41 {
+            for c in 0..81 {
+                let (x, y) = (step * c as f64 - 1.0, step * r as f64 - 0.5);
+                if sampled(x, y) {
+                    samples.push((x, y, x * x + y * y));
+                }
+            }
+        }
+        let g = CentroidGrid::from_row_major(&samples);
+        let segments: Vec<_> = levels.iter().flat_map(|&l| g.contour(l)).collect();
+        let map = Map {
+            cells: g.cells(),
+            contours: vec![ContourSet {
+                label: None,
+                segments,
+                color: BLACK,
+            }],
+            lines: vec![],
+        };
+        let labels = Labels {
+            title: "",
+            x: "x [m]",
+            y: "y [m]",
+        };
+        map_with_contours(&p, labels, &map, &Scale::new(-1.0, 1.0, "v [-]")).unwrap();
+        let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&p).unwrap()));
+        let mut reader = decoder.read_info().unwrap();
+        let mut buf = vec![0; reader.output_buffer_size()];
+        let info = reader.next_frame(&mut buf).unwrap();
+        let channels = info.line_size / info.width as usize;
+        let rgb = |i: usize, j: usize| {
+            let k = j * info.line_size + i * channels;
+            (i32::from(buf[k]), i32::from(buf[k + 1]), i32::from(buf[k + 2]))
+        };
+        // the plot area: the box of the map's red cells (the field is largest at x = ±1, where
+        // the cells are red from bottom to top), left of the colour bar
+        let (w, h) = (info.width as usize, info.height as usize);
+        let red: Vec<(usize, usize)> = (0..w - 130)
+            .flat_map(|i| (0..h).map(move |j| (i, j)))
+            .filter(|&(i, j)| {
+                let (r, _, b) = rgb(i, j);
+                r > b + 60
+            })
+            .collect();
+        let (i0, i1) = red.iter().fold((w, 0), |m, p| (m.0.min(p.0), m.1.max(p.0)));
+        let (j0, j1) = red.iter().fold((h, 0), |m, p| (m.0.min(p.1), m.1.max(p.1)));
+        let (xr, yr) = (
+            (-1.0 - 0.5 * step, 1.0 + 0.5 * step),
+            (-0.5 - 0.5 * step, 0.5 + 0.5 * step),
+        );
+        let at = |i: usize, j: usize| {
+            (
+                xr.0 + (i - i0) as f64 / (i1 - i0) as f64 * (xr.1 - xr.0),
+                yr.1 - (j - j0) as f64 / (j1 - j0) as f64 * (yr.1 - yr.0),
+            )
+        };
+        let (mut dark, mut astray) = (0, Vec::new());
+        for i in i0 + 2..i1 - 1 {
+            for j in j0 + 2..j1 - 1 {
+                let (r, g, b) = rgb(i, j);
+                let (x, y) = at(i, j);
+                if r.max(g).max(b) >= 80 || !sampled(x, y) {
+                    continue;
+                }
+                dark += 1;
+                let off = levels
+                    .iter()
+                    .map(|l| ((x * x + y * y).sqrt() - l.sqrt()).abs())
+                    .fold(f64::MAX, f64::min);
+                if off > 1.5 * step {
+                    astray.push((x, y));
+                }
+            }
+        }
+        println!(
+            "{dark} dark pixels in the sampled plot area, {} off every iso-line",
+            astray.len()
+        );
+        assert!(dark > 500, "the iso-lines are drawn");
+        assert!(
+            astray.is_empty(),
+            "lines off the iso-lines, e.g. at {:?}",
+            &astray[..astray.len().min(5)]
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     #[test]
     fn diverging_scale_is_symmetric_and_clipped() {
         let s = Scale::new(-2.0, 2.0, "");
