@@ -84,13 +84,13 @@ pub fn contact_profile(dir: &Path, setup: &Setup, snap: &Snapshot) -> Result<Vec
     let zones = node_intervals(&xs, &flags);
     let curves = [
         Curve {
-            label: "σ_yy/σ_c^s on the upper face".into(),
+            label: "σyy/σc,strong on the upper face".into(),
             points: rows.iter().map(|r| (r.x_over_a, r.syy_over_sigma_c)).collect(),
             color: PALETTE[0],
             dash: Dash::Solid,
         },
         Curve {
-            label: "−(compressive traction)/σ_c^s at nodes carrying one".into(),
+            label: "−(compressive traction)/σc,strong at nodes carrying one".into(),
             points: rows
                 .iter()
                 .filter(|r| r.compressive_traction_over_sigma_c > 0.0)
@@ -111,7 +111,7 @@ pub fn contact_profile(dir: &Path, setup: &Setup, snap: &Snapshot) -> Result<Vec
     let labels = Labels {
         title: &title,
         x: "(x − x_c)/a [-]",
-        y: "σ_yy/σ_c^s [-]",
+        y: "σyy/σc,strong [-]",
     };
     plot::line_chart_shaded(&png, labels, &curves, &[], Some(&shading))?;
     let zone_rows: Vec<ZoneRow> = zones

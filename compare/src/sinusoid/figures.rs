@@ -97,7 +97,7 @@ pub fn time_figures(
     let labels = Labels {
         title: "Residual stress on the right weak branch (paper eq. 17, Figure 12)",
         x: "t/T [-]",
-        y: "residual stress σ̄ [kPa]",
+        y: "mean shear-direction residual stress, eq. (17) [kPa]",
     };
     files.push(chart(dir, "fig12_residual_stress.png", labels, &residual, &[])?);
     files.extend(tips_vs_shear(dir, setup, runs)?);

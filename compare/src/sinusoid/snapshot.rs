@@ -185,7 +185,7 @@ fn stress_map(
     let map = Map {
         cells,
         contours: vec![ContourSet {
-            label: Some(format!("σ_yy/σ_c^s = {}", levels.join(", "))),
+            label: Some(format!("σyy/σc,strong = {}", levels.join(", "))),
             segments: contour_rows
                 .iter()
                 .map(|c| ((c.x0_over_a, c.y0_over_a), (c.x1_over_a, c.y1_over_a)))
@@ -197,8 +197,8 @@ fn stress_map(
     let (m, t_over_t) = (&snap.run.model, snap.t_over_t);
     let png = dir.join(format!("fig10_sigma_y_{m}.png"));
     let title = format!(
-        "σ_yy/σ_c^s, {m} model, t/T = {t_over_t:.3} (colours clipped at ±{bound:.2}: \
-         {:.0}th percentile of |σ_yy|/σ_c^s, all models)",
+        "σyy/σc,strong, {m} model, t/T = {t_over_t:.3} (colours clipped at ±{bound:.2}: \
+         {:.0}th percentile of |σyy|/σc,strong, all models)",
         100.0 * SCALE_QUANTILE
     );
     let labels = Labels {
@@ -206,7 +206,7 @@ fn stress_map(
         x: "(x − x_c)/a [-]",
         y: "y/a [-]",
     };
-    let scale = Scale::new(-bound, bound, "σ_yy/σ_c^s [-]");
+    let scale = Scale::new(-bound, bound, "σyy/σc,strong [-]");
     plot::map_with_contours(&png, labels, &map, &scale)?;
     Ok(vec![
         png,
