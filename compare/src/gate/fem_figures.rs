@@ -58,6 +58,7 @@ pub fn fem_figures(
         space_time_labels(&title),
         &damage,
         &Scale::new(0.0, 1.0, "damage d [-]"),
+        &[],
     )?;
     written.push(p);
 
@@ -71,6 +72,7 @@ pub fn fem_figures(
         space_time_labels(&title),
         &pen,
         &Scale::new(0.0, top, "g/(2a) [%]"),
+        &[],
     )?;
     written.push(p);
 
@@ -85,18 +87,65 @@ pub fn fem_figures(
     let p = dir.join("fig6b_traction_ratio_space_time.png");
     let title = format!("FE ‖T_t‖/‖T_n‖ on the upper face, μ = {mu} (grey: no contact)");
     let top = (2.0 * mu).max(0.1);
+    // the pre-crack's stick-to-slip line, as the paper draws it (the new faces behind the running
+    // tips stick for a few samples after they first touch, which the field itself shows)
+    let mut slip = first_slip(&ratio, mu);
+    slip.retain(|r| r.x_over_a.abs() < 1.0);
+    let guide = Curve {
+        label: format!("stick → slip on the pre-crack, ‖T_t‖/‖T_n‖ = μ = {mu}"),
+        points: slip.iter().map(|r| (r.x_over_a, r.t_over_t)).collect(),
+        color: RGBColor(255, 255, 255),
+        dash: Dash::Solid,
+    };
     plot::space_time(
         &p,
         space_time_labels(&title),
         &ratio,
         &Scale::new(0.0, top, "‖T_t‖/‖T_n‖ [-]"),
+        if mu > 0.0 {
+            std::slice::from_ref(&guide)
+        } else {
+            &[]
+        },
     )?;
     written.push(p);
+    if mu > 0.0 {
+        written.push(write_rows(&dir.join("fig6b_first_slip.csv"), &slip)?);
+    }
 
     written.push(mean_tractions(dir, case, mu, out)?);
     written.push(energies(dir, case, mu, out)?);
     written.extend(energy_ratio(dir, case, scene, out)?);
     Ok(written)
+}
+
+/// One point of the stick-to-slip boundary of Figure 6b (`fig6b_first_slip.csv`).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct FirstSlip {
+    /// Node position (x − x_c)/a [-].
+    pub x_over_a: f64,
+    /// First sample time at which the node's ‖T_t‖/‖T_n‖ reaches μ, t/T [-].
+    pub t_over_t: f64,
+}
+
+/// The line the paper's Figure 6b draws in white, ‖T_t‖/‖T_n‖ = μ, where the faces go from stick
+/// to slip: per node (column of the ratio field, x increasing) the first sample at which its
+/// ratio reaches μ (to 1e-9, the return map's slip condition), for every node that stuck in
+/// contact before (a finite ratio below μ at an earlier sample). Nodes that never slip, and new
+/// faces that slip from their first contact on, have no stick-to-slip transition and are left
+/// out.
+pub fn first_slip(ratio: &Field, mu: f64) -> Vec<FirstSlip> {
+    let slips = |v: f64| v >= (1.0 - 1e-9) * mu;
+    (0..ratio.x.len())
+        .filter_map(|j| {
+            let i = ratio.values.iter().position(|row| slips(row[j]))?;
+            let stuck = ratio.values[..i].iter().any(|row| row[j].is_finite());
+            stuck.then_some(FirstSlip {
+                x_over_a: ratio.x[j],
+                t_over_t: ratio.t[i],
+            })
+        })
+        .collect()
 }
 
 fn mean_tractions(dir: &Path, case: &Case, mu: f64, out: &fem::RunOutput) -> Result<PathBuf> {
@@ -216,4 +265,47 @@ fn energy_ratio(dir: &Path, case: &Case, scene: &fem::Scene, out: &fem::RunOutpu
     };
     plot::draw(&p, &chart)?;
     Ok(vec![p, write_rows(&dir.join("figB14a_energy_ratio.csv"), &rows)?])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each node's first sample at μ after sticking: a node whose ratio rises linearly crosses μ
+    /// where it should; one without contact (NaN), or one that slips from its first contact on
+    /// (no stick before), is left out.
+    #[test]
+    fn the_first_slip_line_marks_each_node_where_its_ratio_reaches_mu() {
+        let t: Vec<f64> = (0..11).map(|k| 0.1 * k as f64).collect();
+        let ratio = Field {
+            x: vec![-0.5, 0.0, 0.5, 1.5],
+            values: t
+                .iter()
+                .map(|&t| {
+                    vec![
+                        0.6 * t,
+                        f64::NAN,
+                        if t >= 0.35 { 0.3 } else { 0.1 },
+                        if t >= 0.75 { 0.3 } else { f64::NAN },
+                    ]
+                })
+                .collect(),
+            t,
+        };
+        let line = first_slip(&ratio, 0.3);
+        assert_eq!(
+            line,
+            [
+                FirstSlip {
+                    x_over_a: -0.5,
+                    t_over_t: 0.5
+                },
+                FirstSlip {
+                    x_over_a: 0.5,
+                    t_over_t: 0.4
+                },
+            ]
+        );
+        assert!(first_slip(&ratio, 0.9).is_empty());
+    }
 }

@@ -1,7 +1,9 @@
 //! Space-time diagrams (paper Figures 5b, 6a, 6b): a field over position and time, drawn cell by
 //! cell with plotters' viridis colour map and a colour bar.
 
-use super::style::{FONT, Labels, SIZE, Scale, draw_axes, draw_colour_bar, register_font};
+use super::style::{
+    Curve, FONT, Labels, SIZE, Scale, draw_axes, draw_colour_bar, draw_curves, draw_legend, register_font,
+};
 use anyhow::{Context, Result, anyhow};
 use plotters::prelude::*;
 use std::path::Path;
@@ -77,8 +79,9 @@ fn viridis(v: f64, s: &Scale) -> RGBColor {
     }
 }
 
-/// Draws a space-time diagram (x horizontal, t vertical) with a colour bar to `path` (PNG).
-pub fn space_time(path: &Path, labels: Labels, field: &Field, scale: &Scale) -> Result<()> {
+/// Draws a space-time diagram (x horizontal, t vertical) with a colour bar to `path` (PNG), and
+/// `lines` over it (guide lines such as the stick-to-slip boundary of Figure 6b) with a legend.
+pub fn space_time(path: &Path, labels: Labels, field: &Field, scale: &Scale, lines: &[Curve]) -> Result<()> {
     let (nx, nt) = (field.x.len(), field.t.len());
     if nx < 2 || nt < 2 {
         return Err(anyhow!(
@@ -110,6 +113,10 @@ pub fn space_time(path: &Path, labels: Labels, field: &Field, scale: &Scale) -> 
         })
     });
     chart.draw_series(cells)?;
+    if !lines.is_empty() {
+        draw_curves(&mut chart, lines)?;
+        draw_legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
+    }
     draw_colour_bar(&bar, scale, |v| viridis(v, scale))?;
     root.present()
         .with_context(|| format!("writing {}", path.display()))
@@ -160,14 +167,14 @@ mod tests {
             x: "x [m]",
             y: "t [s]",
         };
-        space_time(&p, labels, &f, &s).unwrap();
+        space_time(&p, labels, &f, &s, &[]).unwrap();
         assert!(std::fs::metadata(&p).unwrap().len() > 1000);
         let g = Field {
             x: vec![0.0],
             t: vec![0.0],
             values: vec![vec![1.0]],
         };
-        assert!(space_time(&p, labels, &g, &s).is_err());
+        assert!(space_time(&p, labels, &g, &s, &[]).is_err());
     }
 
     #[test]
