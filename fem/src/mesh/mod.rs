@@ -1,5 +1,5 @@
-//! Structured Q4 meshes with a twinned interface row, and the reader of Gmsh meshes (used by the
-//! bulk-only unstructured time loop, not yet by the cohesive-contact solver).
+//! The meshes the solver runs on: the structured Q4 grid with its twinned interface row, and Gmsh
+//! meshes (read, their interface chains split into twins, prepared with their roles).
 
 use nalgebra::Vector2;
 

@@ -1,5 +1,5 @@
-//! Explicit central-difference integration and the run loop (structured grid), and the bulk-only
-//! time loop on unstructured meshes ([`unstructured`]).
+//! Explicit central-difference integration and the run loop, on the structured grid and on Gmsh
+//! meshes alike.
 
 pub mod central_difference;
 pub(crate) mod contact_step;
@@ -8,4 +8,3 @@ pub(crate) mod node;
 pub mod profile;
 pub mod run;
 pub(crate) mod sweep;
-pub mod unstructured;

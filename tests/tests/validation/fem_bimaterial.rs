@@ -15,10 +15,10 @@
 //! - BM.3: with the joint a cohesive interface, a bar pulled slowly breaks there when the uniform
 //!   σ_xx = u_end/(L₁/M₁ + L₂/M₂) (M = λ + 2G of each part) reaches σ_c, the insertion check
 //!   reading each side's stress with its own material; the energy audit of the run closes;
-//! - BM.4: the bulk-only driver (`fem::solver::unstructured`, a Rust API without a scene) with the
-//!   stiff surface's material given (`UnstructuredDriver::with_materials`): the left end moved
-//!   at a velocity that rises smoothly to v₀ sends the same P wave, crossing the joint with the
-//!   same T and R, and its step is α min_e h_e/c_d,e.
+//! - BM.4: the same bar under displacement control: the left end moved by 10 µm through the ramp
+//!   of eq. (B.1) over 0.2 ms sends a displacement step U; the transmitted step is T U and the
+//!   reflected one −R U (the integrals of v_T = T v_I and v_R = −R v_I), so the same formulas and
+//!   transit times hold for u_x as for v_x, with the same step as BM.2.
 
 use fem::nalgebra::Vector2;
 use validation::{repo_root, scene_text, with_overrides};
@@ -63,13 +63,17 @@ fn scene(text: &str) -> fem::Scene {
     fem::Scene::from_toml_str_in(text, &repo_root().join("scenes")).unwrap()
 }
 
-/// (t [s], v_x [m/s]) of probe k.
-fn probe(out: &fem::RunOutput, k: usize) -> (f64, Vec<(f64, f64)>) {
+/// (x [m], (t [s], value) samples) of probe k, the value read from each record by `value`.
+fn probe_series(
+    out: &fem::RunOutput,
+    k: usize,
+    value: fn(&fem::ProbeRecord) -> f64,
+) -> (f64, Vec<(f64, f64)>) {
     let rows: Vec<_> = out.probes.iter().filter(|p| p.probe == k).collect();
-    (rows[0].x, rows.iter().map(|p| (p.t, p.vx)).collect())
+    (rows[0].x, rows.iter().map(|p| (p.t, value(p))).collect())
 }
 
-/// First time [s] v_x crosses `level` upwards, linearly between samples.
+/// First time [s] the value crosses `level` upwards, linearly between samples.
 fn crossing(v: &[(f64, f64)], level: f64) -> f64 {
     let i = v
         .windows(2)
@@ -79,7 +83,7 @@ fn crossing(v: &[(f64, f64)], level: f64) -> f64 {
     t0 + (t1 - t0) * (level - v0) / (v1 - v0)
 }
 
-/// Mean of v_x over t ∈ [from, to] [s].
+/// Mean of the value over t ∈ [from, to] [s].
 fn mean(v: &[(f64, f64)], from: f64, to: f64) -> f64 {
     let w: Vec<f64> = v
         .iter()
@@ -93,12 +97,13 @@ fn mean(v: &[(f64, f64)], from: f64, to: f64) -> f64 {
 #[test]
 fn a_p_wave_crosses_the_joint_by_the_impedance_formulas() {
     let out = fem::run(&scene(&scene_text("tiny-fem-bimaterial"))).unwrap();
-    let p: Vec<(f64, Vec<(f64, f64)>)> = (0..4).map(|k| probe(&out, k)).collect();
+    let p: Vec<(f64, Vec<(f64, f64)>)> = (0..4).map(|k| probe_series(&out, k, |r| r.vx)).collect();
     assert_impedance_formulas(&p, PUSH / (SOFT.2 * p_wave(SOFT).1));
 }
 
-/// Claim BM.1 on the probes `p` ((x [m], (t [s], v_x [m/s]) samples) of the scene's four points)
-/// of a wave whose incident particle velocity is `v_push` [m/s].
+/// Claim BM.1 on the probes `p` ((x [m], (t [s], value) samples) of the scene's four points) of a
+/// wave whose incident step is `v_push`: the values are v_x [m/s] and `v_push` the particle
+/// velocity p/Z₁ of the push, or u_x [m] and the displacement step of the held end (BM.4).
 fn assert_impedance_formulas(p: &[(f64, Vec<(f64, f64)>)], v_push: f64) {
     let ((_, c1), (_, c2)) = (p_wave(SOFT), p_wave(STIFF));
     let (z1, z2) = (SOFT.2 * c1, STIFF.2 * c2);
@@ -122,7 +127,7 @@ fn assert_impedance_formulas(p: &[(f64, Vec<(f64, f64)>)], v_push: f64) {
     let (soft_transit, stiff_transit) = (h1 - h0, h3 - h2);
     let (soft_expect, stiff_expect) = ((p[1].0 - p[0].0) / c1, (p[3].0 - p[2].0) / c2);
     println!(
-        "incident {incident:.6} m/s (p/Z1 {v_push:.6}, {:+.3e}); T {t_meas:.5} ({t_expect}, {:+.3e}); \
+        "incident {incident:.6e} (imposed {v_push:.6e}, {:+.3e}); T {t_meas:.5} ({t_expect}, {:+.3e}); \
          R {r_meas:.5} ({r_expect}, {:+.3e}); transit soft {soft_transit:.6e} s ({:+.3e}), stiff \
          {stiff_transit:.6e} s ({:+.3e})",
         incident / v_push - 1.0,
@@ -138,65 +143,31 @@ fn assert_impedance_formulas(p: &[(f64, Vec<(f64, f64)>)], v_push: f64) {
     assert!((stiff_transit / stiff_expect - 1.0).abs() < TOL_TRANSIT_REL);
 }
 
-/// The left end's x motion of claim BM.4: v = v₀ S(t/τ) with the quintic smoothstep
-/// S(s) = s³(10 − 15s + 6s²), then v₀; u = v₀τ(2.5s⁴ − 3s⁵ + s⁶), then v₀(t − τ/2)
-/// ([u [m], v [m/s]] at t [s]).
-fn smooth_start(v0: f64, tau: f64) -> impl Fn(f64) -> [f64; 2] {
-    move |t: f64| {
-        if t >= tau {
-            return [v0 * (t - 0.5 * tau), v0];
-        }
-        let s = (t / tau).max(0.0);
-        [
-            v0 * tau * s.powi(4) * (2.5 - 3.0 * s + s * s),
-            v0 * s.powi(3) * (10.0 - 15.0 * s + 6.0 * s * s),
-        ]
-    }
-}
+/// The left end's displacement [m] of claim BM.4: 10 µm through the ramp of eq. (B.1) over
+/// 0.2 ms, the rise time of BM.1's push.
+const STEP_U: f64 = 1e-5;
 
 #[test]
-fn the_bulk_only_driver_with_two_materials_sends_the_wave_across_the_joint_alike() {
-    use fem::solver::unstructured::{
-        Axis, DriverOptions, GroupBc, Prescribed, SurfaceMaterial, UnstructuredDriver,
-    };
-    let mesh = fem::gmsh::UnstructuredMesh::read(&repo_root().join("meshes/bimaterial.msh")).unwrap();
-    let material = |(e, nu, rho): (f64, f64, f64)| fem::law::elastic::PlaneStrain::new(e, nu, rho);
-    let stiff = [SurfaceMaterial {
-        group: "stiff".into(),
-        material: material(STIFF),
-    }];
-    // the push of the scene's 0.1 MPa on the soft part: v₀ = p/Z₁, reached over 0.2 ms
-    let (_, c1) = p_wave(SOFT);
-    let v0 = PUSH / (SOFT.2 * c1);
-    let bcs = [
-        GroupBc::prescribed(
-            "left",
-            Axis::X,
-            Prescribed::Function(std::sync::Arc::new(smooth_start(v0, 2e-4))),
-        ),
-        GroupBc::roller("top", Axis::Y),
-        GroupBc::roller("bottom", Axis::Y),
-    ];
-    let points = [[0.25, 0.03], [0.75, 0.03], [1.3, 0.03], [2.05, 0.03]];
-    let options = DriverOptions {
-        alpha: 0.5,
-        probes: points.iter().map(|p| Vector2::new(p[0], p[1])).collect(),
-        probe_every: 1,
-    };
-    let mut driver =
-        UnstructuredDriver::with_materials(&mesh, &material(SOFT), &stiff, &bcs, &options).unwrap();
-    // claim BM.2: the stiff part's larger elements set the step, as in the scene
-    let expect = 0.5 * min_transit(&mesh);
-    println!("Δt {:.6e} s (α min h_e/c_d,e {expect:.6e} s)", driver.dt());
-    assert!((driver.dt() / expect - 1.0).abs() < TOL_STEP_REL);
-    driver.run_until(7e-3).unwrap();
-    let p: Vec<(f64, Vec<(f64, f64)>)> = (0..4)
-        .map(|k| {
-            let rows: Vec<_> = driver.records().iter().filter(|r| r.probe == k).collect();
-            (rows[0].x, rows.iter().map(|r| (r.t, r.vx)).collect())
-        })
-        .collect();
-    assert_impedance_formulas(&p, v0);
+fn a_displacement_step_crosses_the_joint_by_the_same_formulas() {
+    // the scene of BM.1 with its left end under displacement control instead of the push
+    let held = format!(
+        "{{ kind = \"displacement\", initial = 0.0, final = {STEP_U:e}, ramp_start = 0.0, ramp_end = 2e-4 }}"
+    );
+    let text = with_overrides(&scene_text("tiny-fem-bimaterial"), &[("fem.boundary.left", None)]);
+    let s = scene(&format!("{text}\n[fem.boundary.left]\nx = {held}\n"));
+    let out = fem::run(&s).unwrap();
+    // claim BM.2 holds for this run too: the same mesh and materials give the same step
+    let expect = 0.5
+        * min_transit(
+            &fem::gmsh::UnstructuredMesh::read(&repo_root().join("meshes/bimaterial.msh")).unwrap(),
+        );
+    assert!((out.time_step / expect - 1.0).abs() < TOL_STEP_REL);
+    let p: Vec<(f64, Vec<(f64, f64)>)> = (0..4).map(|k| probe_series(&out, k, |r| r.ux)).collect();
+    // the tolerances of BM.1, stated for this test before it ran; measured: incident −0.47 %,
+    // T +0.49 %, R −0.20 %, transits +0.59 % and +0.16 %.
+    // In displacement the incident step is U, the transmitted T U and the reflected −R U (the
+    // integral of the velocity waves v_T = T v_I, v_R = −R v_I): the formulas of BM.1 apply as they are
+    assert_impedance_formulas(&p, STEP_U);
 }
 
 /// h_e = A/ℓ_max of a quadrangle (shoelace area over the longest edge) [m].
