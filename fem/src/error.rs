@@ -1,6 +1,6 @@
 //! Typed errors of the library: scene validation, model building and the time loop.
 
-use crate::output::RunOutput;
+use crate::records::RunOutput;
 use thiserror::Error;
 
 pub use preflight::Problem;
@@ -112,7 +112,7 @@ pub enum BuildError {
     },
     /// The unstructured kernel cannot be built on the scene's Gmsh mesh.
     #[error("the mesh of fem.mesh.file: {0}")]
-    Mesh(#[from] crate::model::unstructured::UnstructuredError),
+    Mesh(#[from] UnstructuredError),
 }
 
 /// The time loop stopped.
@@ -187,4 +187,28 @@ mod number_tests {
         assert_eq!(number(f64::NAN), "NaN");
         assert_eq!(number(f64::INFINITY), "inf");
     }
+}
+
+/// A mesh the unstructured kernel cannot be built on.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum UnstructuredError {
+    /// An element with a non-positive (or non-finite) Jacobian determinant at a quadrature point:
+    /// inverted or degenerate. The mesh reader refuses such elements; this guards meshes built by
+    /// hand.
+    #[error("element {element} is inverted or degenerate (det J = {det_j} m²)")]
+    InvertedElement {
+        /// Element tag ([`crate::mesh::gmsh::BulkElement::tag`]).
+        element: u64,
+        /// The offending determinant (T3: twice the signed area) [m²].
+        det_j: f64,
+    },
+    /// A density that is not finite and positive.
+    #[error("density = {0} kg/m³ must be finite and positive")]
+    BadDensity(f64),
+    /// No material, more than 256, or an element material index out of range or missing.
+    #[error("every element needs a material index into 1 to 256 materials")]
+    BadMaterials,
+    /// More nodes or edges than the 32-bit indices of the kernel hold.
+    #[error("the mesh is too large for the kernel's 32-bit indices")]
+    TooLarge,
 }

@@ -14,6 +14,8 @@ pub(crate) mod mesh;
 pub mod model;
 pub mod output;
 pub mod probe;
+pub mod profile;
+pub mod records;
 pub mod scene;
 pub mod solver;
 #[cfg(test)]
@@ -23,18 +25,20 @@ pub use error::{BuildError, RunError, SceneError};
 pub use law::elastic::WaveSpeeds;
 pub use mesh::gmsh;
 pub use mesh::prepared;
-pub use mesh::write_msh::grid_as_msh;
 pub use model::build::{build, build_with_row_map};
 pub use model::state::{Model, State, Workspace};
 /// Re-export of the vector type used at the API (`Vector2<f64>`), so callers need not depend on nalgebra.
 pub use nalgebra;
-pub use output::paraview::{FieldSink, FieldSnapshot, ParaviewWriter};
-pub use output::{
+pub use output::paraview::ParaviewWriter;
+pub use output::write_csv;
+pub use records::fields::{FieldSink, FieldSnapshot};
+pub use records::{
     ArrivalRecord, BoundaryRecord, ContactMeanRecord, CrackRecord, CrackTipRecord, EnergyRecord, FaceRecord,
     FieldRecord, FrictionRecord, InterfaceRecord, KktRecord, ProbeRecord, ProfileRecord,
-    ResidualStressRecord, RunOutput, RunRecord, TipRecord, write_csv,
+    ResidualStressRecord, RunOutput, RunRecord, TipRecord,
 };
 pub use scene::Scene;
+pub use scene::write_msh::grid_as_msh;
 pub use solver::central_difference::step;
 pub use solver::estimate::estimate;
 pub use solver::run::{run, run_with_fields, run_with_progress};

@@ -12,6 +12,7 @@ mod paraview;
 mod problem;
 mod raw;
 mod rough;
+pub mod write_msh;
 
 pub use boundary::{BoundaryComponent, BoundaryCurve, BoundaryKind, BoundarySpec, GRID_SIDES};
 pub use damping::{Damping, DampingRate, DampingSet};

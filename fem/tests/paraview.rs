@@ -7,7 +7,8 @@
 //! that read its files; samples and snapshots share their interval, so each snapshot has records
 //! of the same step to compare with.
 
-use fem::output::paraview::{FieldPiece, FieldValues, read_vtu};
+use fem::output::paraview::read_vtu;
+use fem::records::fields::{FieldPiece, FieldValues};
 use fem::{FieldSink, FieldSnapshot, ParaviewWriter, RunOutput, Scene};
 use std::io::Write;
 use std::path::{Path, PathBuf};

@@ -135,7 +135,7 @@ fn run() -> anyhow::Result<()> {
         output.time_step,
         started.elapsed().as_secs_f64(),
         rayon::current_num_threads(),
-        fem::solver::profile::table(&output.profile, output.steps, output.elements)
+        fem::profile::table(&output.profile, output.steps, output.elements)
     );
     for f in files {
         println!("wrote {}", f.display());

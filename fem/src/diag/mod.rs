@@ -7,7 +7,7 @@ pub(crate) mod tips;
 pub(crate) mod tractions;
 
 use crate::model::state::{Model, State, Workspace};
-use crate::output::{BoundaryRecord, ProbeRecord, ResidualStressRecord, RunOutput};
+use crate::records::{BoundaryRecord, ProbeRecord, ResidualStressRecord, RunOutput};
 use nalgebra::Vector2;
 
 /// An observer of sampled states.

@@ -7,7 +7,7 @@ use crate::mesh::interfaces::{FacetKind, InterfaceRow, NO_FACET};
 use crate::model::cohesive::{facet_gauss, midline_normal};
 use crate::model::state::{Model, State};
 use crate::model::stress::{self, Side};
-use crate::output::{FieldRecord, KktRecord, ProfileRecord};
+use crate::records::{FieldRecord, KktRecord, ProfileRecord};
 use nalgebra::Vector2;
 
 /// Columns searched on each side of a node for the closest opposing segment (slips up to this
@@ -256,7 +256,7 @@ mod tests {
 
     fn sinusoid() -> (Scene, Model, State) {
         let scene = Scene::from_toml_str(&crate::test_scenes::scene_text("sinusoidal-interface")).unwrap();
-        let (model, state, _) = crate::build(&scene).unwrap();
+        let (model, state, _) = crate::model::build::build(&scene).unwrap();
         (scene, model, state)
     }
 

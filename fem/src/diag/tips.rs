@@ -4,7 +4,7 @@
 use crate::mesh::interfaces::{FacetKind, InterfaceRow};
 use crate::model::cohesive::facet_gauss;
 use crate::model::state::{Model, State};
-use crate::output::{ArrivalRecord, CrackRecord, CrackTipRecord, InterfaceRecord, TipRecord};
+use crate::records::{ArrivalRecord, CrackRecord, CrackTipRecord, InterfaceRecord, TipRecord};
 
 /// Interface coordinate of Gauss point q of facet c [m] (x on the built-in grids).
 fn gauss_x(model: &Model, c: usize, q: usize) -> f64 {

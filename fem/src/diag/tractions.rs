@@ -3,7 +3,7 @@
 
 use crate::mesh::interfaces::FacetKind;
 use crate::model::state::{Model, State};
-use crate::output::{ContactMeanRecord, FaceRecord};
+use crate::records::{ContactMeanRecord, FaceRecord};
 
 /// Whether column i of the interface row touches a pre-crack or cohesive facet.
 fn on_face(model: &Model, i: usize) -> bool {

@@ -170,3 +170,52 @@ pub(crate) fn column_facets(num_columns: usize, ends: &[[u32; 2]]) -> Vec<[u32; 
     }
     out
 }
+
+/// Whether column i's twins are tied: some incident facet is neither inserted nor pre-crack (§3.1).
+pub(crate) fn column_tied(row: &InterfaceRow, inserted: &[bool], i: usize) -> bool {
+    row.column_facets(i).any(|c| match row.kind[c] {
+        FacetKind::PreCrack => false,
+        FacetKind::Plain => true,
+        FacetKind::Cohesive => !inserted[c],
+    })
+}
+
+/// Ties the copies of junction j (docs/meshes.md, "Several chains"): the copies joined through
+/// tied columns (a closed facet at the junction joins its column's − and + copies) form one tie
+/// group, a ring in `tied_twin` (each copy names the next; a copy alone is untied). A pair is the
+/// ring of two, the same as a twin pair's tie. Allocates nothing.
+pub(crate) fn tie_junction(row: &InterfaceRow, inserted: &[bool], j: usize, tied_twin: &mut [u32]) {
+    let cols = &row.junctions[j];
+    for &i in cols {
+        let i = i as usize;
+        tied_twin[row.minus[i] as usize] = row.minus[i];
+        tied_twin[row.plus[i] as usize] = row.plus[i];
+    }
+    for &i in cols {
+        let i = i as usize;
+        let (a, b) = (row.minus[i] as usize, row.plus[i] as usize);
+        if column_tied(row, inserted, i) && !in_ring(tied_twin, a, b as u32) {
+            // splicing two rings at a and b makes one
+            tied_twin.swap(a, b);
+        }
+    }
+    for &i in cols {
+        for n in [row.minus[i as usize], row.plus[i as usize]] {
+            if tied_twin[n as usize] == n {
+                tied_twin[n as usize] = u32::MAX;
+            }
+        }
+    }
+}
+
+/// Whether node b is in the tie ring of node a (a tied pair: b is a's twin).
+pub(crate) fn in_ring(tied_twin: &[u32], a: usize, b: u32) -> bool {
+    let mut t = tied_twin[a];
+    while t != u32::MAX && t != a as u32 {
+        if t == b {
+            return true;
+        }
+        t = tied_twin[t as usize];
+    }
+    false
+}

@@ -6,9 +6,9 @@ use nalgebra::Vector2;
 pub mod gmsh;
 
 pub(crate) mod interfaces;
+pub mod lengths;
 pub mod prepared;
 pub(crate) mod structured;
-pub mod write_msh;
 
 /// Index of the node of `positions` [m] nearest to `p` [m] (the smallest index on a tie; 0 for no
 /// nodes): where a probe point records.

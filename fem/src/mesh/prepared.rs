@@ -13,7 +13,7 @@
 //! the arc length from its first node, plus that node's x; the chains follow each other in the
 //! interface row in the order of their smallest line tag.
 
-use crate::gmsh::{Chain, MeshError, UnstructuredMesh, interface_chains_of, split_interface};
+use crate::mesh::gmsh::{Chain, MeshError, UnstructuredMesh, interface_chains_of, split_interface};
 use crate::mesh::interfaces::{FacetKind, InterfaceRow, NO_JUNCTION, column_facets};
 use nalgebra::Vector2;
 use std::collections::{HashMap, HashSet};
@@ -192,7 +192,7 @@ pub fn prepare(mesh: UnstructuredMesh, roles: &MeshRoles) -> Result<PreparedMesh
         }
     }
     let outer_before = mesh.outer_nodes();
-    let h_min = crate::model::unstructured::min_element_length(&mesh);
+    let h_min = crate::mesh::lengths::min_element_length(&mesh);
     let bbox = bounding_box(&mesh.positions);
     if curves.is_empty() {
         let n = mesh.positions.len();
@@ -453,7 +453,7 @@ mod tests {
 
     #[test]
     fn a_t_junction_ends_three_chains_whose_copies_untie_as_its_facets_open() {
-        use crate::model::build::{in_ring, tie_junction};
+        use crate::mesh::interfaces::{in_ring, tie_junction};
         let p = prepared("t-junction.msh", &["interface", "branch"]);
         let row = p.row.as_ref().unwrap();
         assert_eq!((row.num_chains(), row.junctions.len()), (3, 1));

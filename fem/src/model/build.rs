@@ -3,7 +3,7 @@
 use crate::contact::{ContactParams, ContactState, ContactWorkspace, DetectionSurface};
 use crate::error::BuildError;
 use crate::law::cohesive::{ClosingTreatment, CohesiveState, LinearCohesive};
-use crate::mesh::interfaces::{FacetKind, InterfaceRow, NO_JUNCTION};
+use crate::mesh::interfaces::{FacetKind, InterfaceRow, NO_JUNCTION, column_tied, tie_junction};
 use crate::mesh::nearest_node;
 use crate::mesh::structured::{Grid, GridSpec};
 use crate::model::bulk::{self, Stiffness};
@@ -398,55 +398,6 @@ fn stiffness(grid: &Grid, d: &[[f64; 3]; 3]) -> Result<Stiffness, BuildError> {
     }
 }
 
-/// Whether column i's twins are tied: some incident facet is neither inserted nor pre-crack (§3.1).
-pub(crate) fn column_tied(row: &InterfaceRow, inserted: &[bool], i: usize) -> bool {
-    row.column_facets(i).any(|c| match row.kind[c] {
-        FacetKind::PreCrack => false,
-        FacetKind::Plain => true,
-        FacetKind::Cohesive => !inserted[c],
-    })
-}
-
-/// Ties the copies of junction j (docs/meshes.md, "Several chains"): the copies joined through
-/// tied columns (a closed facet at the junction joins its column's − and + copies) form one tie
-/// group, a ring in `tied_twin` (each copy names the next; a copy alone is untied). A pair is the
-/// ring of two, the same as a twin pair's tie. Allocates nothing.
-pub(crate) fn tie_junction(row: &InterfaceRow, inserted: &[bool], j: usize, tied_twin: &mut [u32]) {
-    let cols = &row.junctions[j];
-    for &i in cols {
-        let i = i as usize;
-        tied_twin[row.minus[i] as usize] = row.minus[i];
-        tied_twin[row.plus[i] as usize] = row.plus[i];
-    }
-    for &i in cols {
-        let i = i as usize;
-        let (a, b) = (row.minus[i] as usize, row.plus[i] as usize);
-        if column_tied(row, inserted, i) && !in_ring(tied_twin, a, b as u32) {
-            // splicing two rings at a and b makes one
-            tied_twin.swap(a, b);
-        }
-    }
-    for &i in cols {
-        for n in [row.minus[i as usize], row.plus[i as usize]] {
-            if tied_twin[n as usize] == n {
-                tied_twin[n as usize] = u32::MAX;
-            }
-        }
-    }
-}
-
-/// Whether node b is in the tie ring of node a (a tied pair: b is a's twin).
-pub(crate) fn in_ring(tied_twin: &[u32], a: usize, b: u32) -> bool {
-    let mut t = tied_twin[a];
-    while t != u32::MAX && t != a as u32 {
-        if t == b {
-            return true;
-        }
-        t = tied_twin[t as usize];
-    }
-    false
-}
-
 fn initial_state(model: &Model) -> State {
     let n = model.num_nodes();
     let nf = model.iface.as_ref().map_or(0, |r| r.num_facets());
@@ -534,36 +485,6 @@ pub(crate) fn add_facet_faces(surface: &mut DetectionSurface, row: &InterfaceRow
 mod tests {
     use crate::scene::Scene;
     use crate::test_scenes::scene_text;
-
-    fn tiny_with(extra: &str) -> Scene {
-        let text = scene_text("tiny-fem-center-crack").replace("[fem]\n", &format!("[fem]\n{extra}\n"));
-        Scene::from_toml_str(&text).unwrap()
-    }
-
-    #[test]
-    fn polyline_interface_maps_the_row_and_runs() {
-        // a bump y = 1.5 mm on the right cohesive part (x in [10, 20] mm), flat elsewhere
-        let scene = tiny_with("interface_polyline = [[0.01, 0.0], [0.015, 1.5e-3], [0.02, 0.0]]");
-        assert!((scene.fem.interface_y(0.0125) - 0.75e-3).abs() < 1e-15);
-        assert_eq!(scene.fem.interface_y(0.0), 0.0);
-        // rows above the bump are compressed to (10 mm − 1.5 mm)/10 rows = 0.85 mm, and the row
-        // next to the peak rises with slope 1.5/5 = 0.3: altitude 0.85 mm / √(1 + 0.3²)
-        let expect = 0.85e-3 / (1.0f64 + 0.09).sqrt();
-        assert!(
-            (scene.fem.min_edge() - expect).abs() < 1e-12,
-            "{}",
-            scene.fem.min_edge()
-        );
-        let (model, _, _) = super::build(&scene).unwrap();
-        assert!(!crate::probe::shares_stiffness(&model));
-        let flat = tiny_with("");
-        assert!(
-            scene.time_step() < flat.time_step(),
-            "h_min enters the stable step"
-        );
-        let out = crate::run(&scene).expect("mapped run stays stable");
-        assert!(out.steps > 600);
-    }
 
     #[test]
     fn bad_polyline_is_refused() {

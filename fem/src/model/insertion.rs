@@ -4,7 +4,8 @@
 
 use crate::law::cohesive::{CohesiveState, LinearCohesive};
 use crate::mesh::interfaces::{FacetKind, InterfaceRow, NO_JUNCTION};
-use crate::model::build::{add_facet_faces, column_tied, tie_junction};
+use crate::mesh::interfaces::{column_tied, tie_junction};
+use crate::model::build::add_facet_faces;
 use crate::model::cohesive::facet_gauss;
 use crate::model::state::{ContactPart, Facets, Model};
 use crate::model::stress::{self, Side};

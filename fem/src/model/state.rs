@@ -238,7 +238,7 @@ pub struct Workspace {
     /// Strain energy of the last sampled step [J/m].
     pub(crate) strain_energy: f64,
     /// Wall time per phase of the step (profiling; never part of the records).
-    pub(crate) clock: crate::solver::profile::Clock,
+    pub(crate) clock: crate::profile::Clock,
     /// The free nodes off the interface layers already hold the next step's predictor
     /// (u_{n+1} + Δt v_{n+1} + ½Δt² a_{n+1}, v_{n+1} + ½Δt a_{n+1}): the corrector of an unsampled
     /// step fuses the next step's predictor into the same sweep over memory.
@@ -326,7 +326,7 @@ impl State {
 
 impl Workspace {
     /// Wall time per phase so far.
-    pub fn profile(&self) -> Vec<crate::solver::profile::PhaseTime> {
+    pub fn profile(&self) -> Vec<crate::profile::PhaseTime> {
         self.clock.phases()
     }
 }

@@ -1,4 +1,4 @@
-//! The bulk kernel on unstructured meshes of T3 and Q4 elements ([`crate::gmsh::UnstructuredMesh`]):
+//! The bulk kernel on unstructured meshes of T3 and Q4 elements ([`crate::mesh::gmsh::UnstructuredMesh`]):
 //! lumped masses, the smallest element length of the stable step, and the race-free, deterministic
 //! rayon evaluation of the internal forces: the bulk of a scene on a Gmsh mesh (docs/meshes.md).
 //!
@@ -35,10 +35,11 @@
 //! tiles, not by the threads; tiles run in parallel and write disjoint node ranges, so the result
 //! is the same to the bit for any number of threads.
 
-use crate::gmsh::{ElementKind, UnstructuredMesh};
+use crate::error::UnstructuredError;
+use crate::mesh::gmsh::{ElementKind, UnstructuredMesh};
+use crate::mesh::lengths::{element_length, min_element_length};
 use crate::model::bulk;
 use nalgebra::Vector2;
-use thiserror::Error;
 
 /// Nodes per tile at least: a tile's work must dwarf the cost of a rayon task.
 const MIN_TILE_NODES: usize = 256;
@@ -119,30 +120,6 @@ fn reverse_cuthill_mckee(nn: usize, pairs: &[(u32, u32, [f64; 4])]) -> Vec<u32> 
     }
     order.reverse();
     order
-}
-
-/// A mesh the unstructured kernel cannot be built on.
-#[derive(Debug, Error, Clone, PartialEq)]
-pub enum UnstructuredError {
-    /// An element with a non-positive (or non-finite) Jacobian determinant at a quadrature point:
-    /// inverted or degenerate. The mesh reader refuses such elements; this guards meshes built by
-    /// hand.
-    #[error("element {element} is inverted or degenerate (det J = {det_j} m²)")]
-    InvertedElement {
-        /// Element tag ([`crate::gmsh::BulkElement::tag`]).
-        element: u64,
-        /// The offending determinant (T3: twice the signed area) [m²].
-        det_j: f64,
-    },
-    /// A density that is not finite and positive.
-    #[error("density = {0} kg/m³ must be finite and positive")]
-    BadDensity(f64),
-    /// No material, more than 256, or an element material index out of range or missing.
-    #[error("every element needs a material index into 1 to 256 materials")]
-    BadMaterials,
-    /// More nodes or edges than the 32-bit indices of the kernel hold.
-    #[error("the mesh is too large for the kernel's 32-bit indices")]
-    TooLarge,
 }
 
 /// The elastic constants of one material of the kernel.
@@ -574,32 +551,11 @@ pub(crate) fn cst_stiffness(c: &[Vector2<f64>; 3], d: &[[f64; 3]; 3]) -> Result<
     Ok(k)
 }
 
-/// The smallest element length h_min [m] of `mesh` ([`UnstructuredBulk::min_length`]): per
-/// element 2A/ℓ_max for a T3 and A/ℓ_max for a Q4 (ℓ_max its longest edge); ∞ for a mesh without
-/// elements.
-pub fn min_element_length(mesh: &UnstructuredMesh) -> f64 {
-    (0..mesh.elements.len())
-        .map(|e| element_length(mesh, e))
-        .fold(f64::INFINITY, f64::min)
-}
-
-/// The length h_e [m] of element `e` of the stable step: 2A/ℓ_max for a T3, A/ℓ_max for a Q4.
-pub fn element_length(mesh: &UnstructuredMesh, e: usize) -> f64 {
-    let (x, el) = (&mesh.positions, &mesh.elements[e]);
-    let c = |k: usize| x[el.nodes[k]];
-    let n = el.nodes.len();
-    let longest = (0..n).map(|k| (c((k + 1) % n) - c(k)).norm()).fold(0.0, f64::max);
-    match el.kind {
-        ElementKind::T3 => (c(1) - c(0)).perp(&(c(2) - c(0))) / longest,
-        ElementKind::Q4 => 0.5 * ((c(2) - c(0)).perp(&(c(3) - c(1)))) / longest,
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::gmsh::BulkElement;
     use crate::law::elastic::PlaneStrain;
+    use crate::mesh::gmsh::BulkElement;
     use crate::mesh::structured::{Grid, GridSpec};
     use std::collections::BTreeMap;
 

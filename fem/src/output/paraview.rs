@@ -7,6 +7,7 @@
 //! VTK's inline binary form (base64 of little-endian f64): a value read back is the value written,
 //! to the bit, and the files are identical byte for byte between runs of the same scene.
 
+use crate::records::fields::{CellShape, FieldArray, FieldPiece, FieldSink, FieldSnapshot, FieldValues};
 use std::fmt::Write as _;
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -15,143 +16,13 @@ use vtkio::model::{
     UnstructuredGridPiece, Version, VertexNumbers, Vtk,
 };
 
-/// Shape of a cell, with its VTK cell type number.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum CellShape {
-    /// Two-node segment (VTK_LINE = 3).
-    Line,
-    /// Three-node triangle, counter-clockwise (VTK_TRIANGLE = 5).
-    Triangle,
-    /// Four-node quadrilateral, counter-clockwise (VTK_QUAD = 9).
-    Quad,
-}
-
-impl CellShape {
-    /// Number of nodes of the shape.
-    pub fn nodes(self) -> usize {
-        match self {
-            CellShape::Line => 2,
-            CellShape::Triangle => 3,
-            CellShape::Quad => 4,
-        }
+/// VTK's cell type of a shape.
+fn vtk_cell(shape: CellShape) -> CellType {
+    match shape {
+        CellShape::Line => CellType::Line,
+        CellShape::Triangle => CellType::Triangle,
+        CellShape::Quad => CellType::Quad,
     }
-
-    fn vtk(self) -> CellType {
-        match self {
-            CellShape::Line => CellType::Line,
-            CellShape::Triangle => CellType::Triangle,
-            CellShape::Quad => CellType::Quad,
-        }
-    }
-}
-
-/// Values of one data array, one entry per point or per cell.
-#[derive(Debug, Clone, PartialEq)]
-pub enum FieldValues {
-    /// One number per entry.
-    Scalars(Vec<f64>),
-    /// An in-plane vector per entry, written with a zero z component (3 components) so that
-    /// ParaView's Warp By Vector and glyph filters apply to it directly.
-    Vectors(Vec<[f64; 2]>),
-    /// A small integer per entry (states, flags).
-    Integers(Vec<i32>),
-}
-
-impl FieldValues {
-    /// Number of entries.
-    pub fn len(&self) -> usize {
-        match self {
-            FieldValues::Scalars(v) => v.len(),
-            FieldValues::Vectors(v) => v.len(),
-            FieldValues::Integers(v) => v.len(),
-        }
-    }
-
-    /// Whether there are no entries.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-}
-
-/// One named data array (the names and units are listed in docs/outputs.md).
-#[derive(Debug, Clone, PartialEq)]
-pub struct FieldArray {
-    /// Array name as ParaView shows it.
-    pub name: String,
-    /// The values.
-    pub values: FieldValues,
-}
-
-impl FieldArray {
-    /// A named array.
-    pub fn new(name: &str, values: FieldValues) -> FieldArray {
-        FieldArray {
-            name: name.to_string(),
-            values,
-        }
-    }
-}
-
-/// One unstructured mesh with its data: what one `.vtu` file holds.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct FieldPiece {
-    /// Reference positions X of the points [m] (written with z = 0).
-    pub points: Vec<[f64; 2]>,
-    /// Point indices of every cell, cell after cell.
-    pub connectivity: Vec<u64>,
-    /// End of each cell in `connectivity` (VTK's offsets: the first cell is `0..offsets[0]`).
-    pub offsets: Vec<u64>,
-    /// Shape of each cell.
-    pub shapes: Vec<CellShape>,
-    /// Arrays with one entry per point.
-    pub point_data: Vec<FieldArray>,
-    /// Arrays with one entry per cell.
-    pub cell_data: Vec<FieldArray>,
-}
-
-impl FieldPiece {
-    /// Appends a cell of `shape` through the points `nodes` (counter-clockwise for a face).
-    pub fn push_cell(&mut self, shape: CellShape, nodes: &[u32]) {
-        debug_assert_eq!(nodes.len(), shape.nodes());
-        self.connectivity.extend(nodes.iter().map(|&n| u64::from(n)));
-        self.offsets.push(self.connectivity.len() as u64);
-        self.shapes.push(shape);
-    }
-
-    /// Number of cells.
-    pub fn num_cells(&self) -> usize {
-        self.shapes.len()
-    }
-
-    /// The point array called `name`, if any.
-    pub fn point_array(&self, name: &str) -> Option<&FieldValues> {
-        self.point_data.iter().find(|a| a.name == name).map(|a| &a.values)
-    }
-
-    /// The cell array called `name`, if any.
-    pub fn cell_array(&self, name: &str) -> Option<&FieldValues> {
-        self.cell_data.iter().find(|a| a.name == name).map(|a| &a.values)
-    }
-}
-
-/// The fields of one time step.
-#[derive(Debug, Clone, PartialEq)]
-pub struct FieldSnapshot {
-    /// Step index [-].
-    pub step: u64,
-    /// Time [s].
-    pub t: f64,
-    /// The bulk elements and every node.
-    pub bulk: FieldPiece,
-    /// The interface row as line cells (`None` without a pre-crack or an interface).
-    pub crack: Option<FieldPiece>,
-}
-
-/// Receives the snapshots of a run as they are taken (`run_with_fields`); `Send` because the
-/// time steps run on a rayon pool thread.
-pub trait FieldSink: Send {
-    /// Takes one snapshot; an error stops the run (`RunError::FieldOutput`).
-    fn snapshot(&mut self, snapshot: FieldSnapshot) -> io::Result<()>;
 }
 
 /// Folder of the snapshot files inside the run's output folder.
@@ -277,7 +148,7 @@ pub fn write_vtu(path: &Path, piece: FieldPiece) -> io::Result<()> {
                     connectivity: piece.connectivity,
                     offsets: piece.offsets,
                 },
-                types: piece.shapes.iter().map(|s| s.vtk()).collect(),
+                types: piece.shapes.iter().map(|&s| vtk_cell(s)).collect(),
             },
             data: Attributes {
                 point: piece.point_data.into_iter().map(vtk_array).collect(),
@@ -423,6 +294,28 @@ mod tests {
         );
         assert_eq!(pvd.matches("<DataSet").count(), 4, "{pvd}");
         assert!(dir.join("fields/bulk_000000.vtu").is_file());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_runs_snapshot_reads_back_to_the_bit() {
+        // a snapshot of the tiny centre crack under a smooth displacement field: every array the
+        // observer fills (stresses, displacements, the crack faces) goes through the file unchanged
+        let text = crate::test_scenes::scene_text("tiny-fem-center-crack");
+        let scene = crate::scene::Scene::from_toml_str(&text).unwrap();
+        let (model, mut state, _) = crate::model::build::build(&scene).unwrap();
+        for (u, x) in state.u.iter_mut().zip(&model.x0) {
+            *u = nalgebra::Vector2::new(2e-4 * x.x + 3e-4 * x.y, -1e-4 * x.x - 5e-4 * x.y);
+        }
+        let snap = crate::diag::fields::snapshot(&model, &state);
+        let dir = std::env::temp_dir().join(format!("fem-fields-uniform-{}", std::process::id()));
+        let mut w = ParaviewWriter::new(&dir, 0).unwrap();
+        w.snapshot(snap.clone()).unwrap();
+        assert_eq!(read_vtu(&dir.join("fields/bulk_000000.vtu")).unwrap(), snap.bulk);
+        assert_eq!(
+            read_vtu(&dir.join("fields/crack_000000.vtu")).unwrap(),
+            snap.crack.unwrap()
+        );
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -34,7 +34,7 @@ pub struct MeshSpec {
     /// without `[fem.mesh.materials]`).
     pub element_material: Vec<u8>,
     /// Per material index (0: `[material]`, k: `materials[k − 1]`): the smallest length h_e of
-    /// its elements ([`crate::model::unstructured::element_length`]) [m] (∞: no element).
+    /// its elements ([`crate::mesh::lengths::element_length`]) [m] (∞: no element).
     pub min_length: Vec<f64>,
 }
 
@@ -125,7 +125,7 @@ pub(crate) fn mesh(
             ),
         ));
     }
-    let mut mesh = crate::gmsh::UnstructuredMesh::read(&file)
+    let mut mesh = crate::mesh::gmsh::UnstructuredMesh::read(&file)
         .map_err(|e| inconsistent("fem.mesh.file", e.to_string()))?;
     mesh.scale(unit);
     // a unit that overflows the coordinates, or shrinks the elements until their areas underflow,
@@ -176,7 +176,7 @@ pub(crate) fn mesh(
     let mut min_length = vec![f64::INFINITY; materials.len() + 1];
     for e in 0..prepared.mesh.elements.len() {
         let k = element_material.get(e).copied().unwrap_or(0) as usize;
-        let h = crate::model::unstructured::element_length(&prepared.mesh, e);
+        let h = crate::mesh::lengths::element_length(&prepared.mesh, e);
         min_length[k] = min_length[k].min(h);
     }
     let mut effective = f.clone();

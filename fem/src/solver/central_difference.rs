@@ -6,10 +6,10 @@ use crate::mesh::interfaces::{InterfaceRow, NO_JUNCTION};
 use crate::mesh::structured::LayerSide;
 use crate::model::state::{Model, State, Workspace};
 use crate::model::{bulk, cohesive, insertion};
+use crate::profile::Phase;
 use crate::scene::DampingSet;
 use crate::solver::contact_step;
 use crate::solver::node::{advance, predict, track_vmax2};
-use crate::solver::profile::Phase;
 use nalgebra::Vector2;
 use rayon::prelude::*;
 
@@ -490,7 +490,7 @@ mod tests {
     #[test]
     fn stability_guard_names_the_node() {
         let scene = Scene::from_toml_str(&crate::test_scenes::scene_text("tiny-fem-center-crack")).unwrap();
-        let (model, mut state, mut ws) = crate::build(&scene).unwrap();
+        let (model, mut state, mut ws) = crate::model::build::build(&scene).unwrap();
         super::step(&model, &mut state, &mut ws, false).unwrap();
         let interior = model.grid().unwrap().node(5, 7) as usize;
         state.v[interior].x = f64::NAN;
@@ -500,7 +500,7 @@ mod tests {
             "node {}",
             err.node
         );
-        let (model, mut state, mut ws) = crate::build(&scene).unwrap();
+        let (model, mut state, mut ws) = crate::model::build::build(&scene).unwrap();
         state.v[interior] = nalgebra::Vector2::new(20.0 * model.cd, 0.0);
         let err = super::step(&model, &mut state, &mut ws, false).unwrap_err();
         assert!(
@@ -518,8 +518,8 @@ mod tests {
     #[test]
     fn fused_predictor_gives_the_bits_of_the_separate_passes() {
         let scene = Scene::from_toml_str(&crate::test_scenes::scene_text("tiny-fem-center-crack")).unwrap();
-        let (model, mut plain, mut ws_plain) = crate::build(&scene).unwrap();
-        let (_, mut fused, mut ws_fused) = crate::build(&scene).unwrap();
+        let (model, mut plain, mut ws_plain) = crate::model::build::build(&scene).unwrap();
+        let (_, mut fused, mut ws_fused) = crate::model::build::build(&scene).unwrap();
         let mut compared = 0;
         for n in 1..=700 {
             let sample = n % 7 == 0;
@@ -536,5 +536,40 @@ mod tests {
         }
         assert!(plain.num_inserted() > 0, "the check must run through insertions");
         assert_eq!(compared, 100);
+    }
+
+    /// Frictionless pressed blocks under a step pressure, stepped by hand; with `tamper`, the normal
+    /// penalty is halved halfway through, while the springs are loaded: a contact force that no
+    /// potential describes. Returns the audit error.
+    fn audit(tamper: bool) -> f64 {
+        let text = crate::test_scenes::scene_text("tiny-fem-contact-pressure").replace(
+            "ramp_start = 0.0, ramp_end = 0.001 }",
+            "ramp_start = 0.0, ramp_end = 0.0 }",
+        );
+        let scene = crate::scene::Scene::from_toml_str(&text).unwrap();
+        let (mut model, mut state, mut ws) = crate::model::build::build(&scene).unwrap();
+        let steps = (scene.duration() / model.dt) as u64;
+        let mut out = crate::records::RunOutput::default();
+        for n in 1..=steps {
+            if tamper && n == steps / 2 {
+                model.contact.as_mut().expect("invariant: contact").eps_n *= 0.5;
+            }
+            super::step(&model, &mut state, &mut ws, true).unwrap();
+            out.energy.push(crate::diag::energy::record(&model, &state, &ws));
+        }
+        out.contact_conservation_error()
+    }
+
+    #[test]
+    fn a_non_conservative_penalty_fails_the_audit() {
+        let (honest, tampered) = (audit(false), audit(true));
+        // the audit's tolerance in the validation test (fem_contact_energy) is 1 %: the honest
+        // penalty passes it (measured 3.1e-3), the tampered one must fail it (measured 3.4e-2)
+        const TOL: f64 = 0.01;
+        assert!(honest < TOL, "honest penalty: {honest}");
+        assert!(
+            tampered > TOL,
+            "a penalty halved while loaded must be caught: {tampered}"
+        );
     }
 }

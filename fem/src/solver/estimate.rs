@@ -3,7 +3,7 @@
 //! are held in memory until it ends (they are written as CSV afterwards), so a tiny
 //! `fem.output_interval` costs as much as a fine mesh.
 
-use crate::output::{
+use crate::records::{
     BoundaryRecord, ContactMeanRecord, CrackRecord, CrackTipRecord, EnergyRecord, FaceRecord, FieldRecord,
     InterfaceRecord, KktRecord, ProbeRecord, ProfileRecord, TipRecord,
 };

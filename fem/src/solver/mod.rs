@@ -5,6 +5,5 @@ pub mod central_difference;
 pub(crate) mod contact_step;
 pub mod estimate;
 pub(crate) mod node;
-pub mod profile;
 pub mod run;
 pub(crate) mod sweep;

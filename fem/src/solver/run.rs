@@ -8,11 +8,11 @@ use crate::diag::{Observer, Recorder, tips};
 use crate::error::RunError;
 use crate::model::build::build;
 use crate::model::state::{Model, State, Workspace};
-use crate::output::RunOutput;
-use crate::output::paraview::FieldSink;
+use crate::profile::Phase;
+use crate::records::RunOutput;
+use crate::records::fields::FieldSink;
 use crate::scene::Scene;
 use crate::solver::central_difference::step;
-use crate::solver::profile::Phase;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Runs the scene from t = 0 to T.
@@ -137,4 +137,40 @@ fn finish(model: &Model, state: &State, ws: &Workspace, out: &mut RunOutput, sna
     out.arrivals = tips::arrivals(model, state);
     out.friction = crate::diag::energy::friction_records(model, state);
     out.profile = ws.profile();
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::scene::Scene;
+    use crate::test_scenes::scene_text;
+
+    fn tiny_with(extra: &str) -> Scene {
+        let text = scene_text("tiny-fem-center-crack").replace("[fem]\n", &format!("[fem]\n{extra}\n"));
+        Scene::from_toml_str(&text).unwrap()
+    }
+
+    #[test]
+    fn polyline_interface_maps_the_row_and_runs() {
+        // a bump y = 1.5 mm on the right cohesive part (x in [10, 20] mm), flat elsewhere
+        let scene = tiny_with("interface_polyline = [[0.01, 0.0], [0.015, 1.5e-3], [0.02, 0.0]]");
+        assert!((scene.fem.interface_y(0.0125) - 0.75e-3).abs() < 1e-15);
+        assert_eq!(scene.fem.interface_y(0.0), 0.0);
+        // rows above the bump are compressed to (10 mm − 1.5 mm)/10 rows = 0.85 mm, and the row
+        // next to the peak rises with slope 1.5/5 = 0.3: altitude 0.85 mm / √(1 + 0.3²)
+        let expect = 0.85e-3 / (1.0f64 + 0.09).sqrt();
+        assert!(
+            (scene.fem.min_edge() - expect).abs() < 1e-12,
+            "{}",
+            scene.fem.min_edge()
+        );
+        let (model, _, _) = crate::model::build::build(&scene).unwrap();
+        assert!(!crate::probe::shares_stiffness(&model));
+        let flat = tiny_with("");
+        assert!(
+            scene.time_step() < flat.time_step(),
+            "h_min enters the stable step"
+        );
+        let out = super::run(&scene).expect("mapped run stays stable");
+        assert!(out.steps > 600);
+    }
 }

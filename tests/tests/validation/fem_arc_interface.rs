@@ -18,7 +18,7 @@
 //!   normal would fail both checks.
 
 use fem::nalgebra::Vector2;
-use fem::output::paraview::{FieldPiece, FieldSink, FieldSnapshot, FieldValues};
+use fem::records::fields::{FieldPiece, FieldSink, FieldSnapshot, FieldValues};
 use std::sync::OnceLock;
 use validation::{repo_root, scene_text, with_overrides};
 
