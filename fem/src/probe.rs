@@ -12,20 +12,20 @@ pub fn internal_forces_for(
     model: &Model,
     field: &dyn Fn(Vector2<f64>) -> Vector2<f64>,
 ) -> Vec<(Vector2<f64>, bool, Vector2<f64>)> {
-    let u: Vec<Vector2<f64>> = model.x0.iter().map(|&x| field(x)).collect();
+    let u: Vec<Vector2<f64>> = model.bulk.x0.iter().map(|&x| field(x)).collect();
     let mut f = vec![Vector2::zeros(); u.len()];
     model.internal_forces(&u, &mut f);
     let grid = model
         .grid()
         .expect("the patch-test probe reads the structured grid's outer boundary");
     (0..u.len())
-        .map(|n| (model.x0[n], grid.on_outer_boundary(n), f[n]))
+        .map(|n| (model.bulk.x0[n], grid.on_outer_boundary(n), f[n]))
         .collect()
 }
 
 /// Reference positions of the nodes [m].
 pub fn reference_positions(model: &Model) -> &[Vector2<f64>] {
-    &model.x0
+    &model.bulk.x0
 }
 
 /// Kinetic energy ½ Σ m |v|² [J/m] of a state.
@@ -41,7 +41,7 @@ pub fn strain_energy(ws: &Workspace) -> f64 {
 /// Whether the model uses one shared element stiffness (identical rectangles).
 pub fn shares_stiffness(model: &Model) -> bool {
     matches!(
-        model.mesh,
+        model.bulk.mesh,
         BulkMesh::Grid {
             stiffness: bulk::Stiffness::Shared(_),
             ..

@@ -7,7 +7,7 @@ use crate::records::EnergyRecord;
 
 /// Kinetic energy ½ Σ m |v|² [J/m].
 pub(crate) fn kinetic(model: &Model, state: &State) -> f64 {
-    0.5 * crate::model::reduce::ordered_sum(state.v.len(), |i| model.mass[i] * state.v[i].norm_squared())
+    0.5 * crate::model::reduce::ordered_sum(state.v.len(), |i| model.bulk.mass[i] * state.v[i].norm_squared())
 }
 
 /// Energy record at the current state (`ws.strain_energy` must be from this step).
@@ -35,7 +35,7 @@ pub(crate) fn record(model: &Model, state: &State, ws: &Workspace) -> EnergyReco
 /// Energy in the contact penalty springs, Σ w A (½ ε_n p² + T²/(2 ε_t)) over the slaves in
 /// contact [J/m] (w = ½, Algorithm 1's averaging weight).
 fn contact_stored(model: &Model, state: &State) -> f64 {
-    let (Some(p), Some(cp)) = (&model.contact, &state.contact) else {
+    let (Some(p), Some(cp)) = (&model.interface.contact, &state.contact) else {
         return 0.0;
     };
     let c = &cp.state;
@@ -58,8 +58,8 @@ pub(crate) fn friction_records(model: &Model, state: &State) -> Vec<crate::recor
     (0..c.friction_work.len())
         .filter(|&i| c.friction_work[i] != 0.0 || c.coulomb_work[i] != 0.0)
         .map(|i| crate::records::FrictionRecord {
-            x: model.x0[i].x,
-            y: model.x0[i].y,
+            x: model.bulk.x0[i].x,
+            y: model.bulk.x0[i].y,
             friction_work: c.friction_work[i],
             coulomb_work: c.coulomb_work[i],
         })

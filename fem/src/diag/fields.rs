@@ -33,7 +33,11 @@ pub(crate) fn snapshot(model: &Model, state: &State) -> FieldSnapshot {
         step: state.step,
         t: state.t,
         bulk: bulk_piece(model, state),
-        crack: model.iface.as_ref().map(|row| crack_piece(model, state, row)),
+        crack: model
+            .interface
+            .row
+            .as_ref()
+            .map(|row| crack_piece(model, state, row)),
     }
 }
 
@@ -44,7 +48,7 @@ pub(crate) fn snapshot(model: &Model, state: &State) -> FieldSnapshot {
 fn bulk_piece(model: &Model, state: &State) -> FieldPiece {
     let ne = model.num_elements();
     let mut piece = FieldPiece {
-        points: model.x0.iter().map(|x| [x.x, x.y]).collect(),
+        points: model.bulk.x0.iter().map(|x| [x.x, x.y]).collect(),
         connectivity: Vec::with_capacity(4 * ne),
         offsets: Vec::with_capacity(ne),
         shapes: Vec::with_capacity(ne),
@@ -92,7 +96,10 @@ fn crack_piece(model: &Model, state: &State, row: &InterfaceRow) -> FieldPiece {
     let (nf, np) = (row.num_facets(), row.plus.len());
     let nodes: Vec<usize> = row.minus.iter().chain(&row.plus).map(|&n| n as usize).collect();
     let mut piece = FieldPiece {
-        points: nodes.iter().map(|&n| [model.x0[n].x, model.x0[n].y]).collect(),
+        points: nodes
+            .iter()
+            .map(|&n| [model.bulk.x0[n].x, model.bulk.x0[n].y])
+            .collect(),
         ..FieldPiece::default()
     };
     for side in 0..2u32 {
@@ -170,7 +177,7 @@ fn facet_fields(model: &Model, state: &State, row: &InterfaceRow, c: usize) -> F
     let f = &state.facets;
     let inserted = f.inserted[c];
     let sign = f.sign[c];
-    let n = midline_normal(row, &model.x0, &state.u, c, sign);
+    let n = midline_normal(row, &model.bulk.x0, &state.u, c, sign);
     let t = sign * Vector2::new(n.y, -n.x);
     let opening_at = |i: usize| state.u[row.plus[i] as usize] - state.u[row.minus[i] as usize];
     let mid = 0.5 * (opening_at(c) + opening_at(c + 1));
@@ -282,7 +289,7 @@ mod tests {
         let scene = Scene::from_toml_str(&crate::test_scenes::scene_text("tiny-fem-center-crack")).unwrap();
         let (model, mut state, _) = crate::model::build::build(&scene).unwrap();
         let [[hxx, hxy], [hyx, hyy]] = [[2e-4, 3e-4], [-1e-4, -5e-4]];
-        for (u, x) in state.u.iter_mut().zip(&model.x0) {
+        for (u, x) in state.u.iter_mut().zip(&model.bulk.x0) {
             *u = Vector2::new(hxx * x.x + hxy * x.y, hyx * x.x + hyy * x.y);
         }
         let m = &scene.material;
@@ -309,7 +316,7 @@ mod tests {
         }
         // twins are separate points with their own displacement; the crack piece shows them
         let crack = snap.crack.unwrap();
-        let row = model.iface.as_ref().unwrap();
+        let row = model.interface.row.as_ref().unwrap();
         assert_eq!(crack.points.len(), 2 * row.plus.len());
         assert_eq!(crack.num_cells(), 2 * row.num_facets());
     }
@@ -331,7 +338,7 @@ mod tests {
         assert_eq!(materials[1].poisson_ratio, 0.25);
         let (model, mut state, _) = crate::model::build::build(&scene).unwrap();
         let (exx, eyy, gxy) = (2e-4, -5e-4, 2e-4);
-        for (u, x) in state.u.iter_mut().zip(&model.x0) {
+        for (u, x) in state.u.iter_mut().zip(&model.bulk.x0) {
             *u = Vector2::new(exx * x.x + gxy * x.y, eyy * x.y);
         }
         let snap = snapshot(&model, &state);
@@ -342,7 +349,7 @@ mod tests {
             let cx = nodes
                 .as_slice()
                 .iter()
-                .map(|&n| model.x0[n as usize].x)
+                .map(|&n| model.bulk.x0[n as usize].x)
                 .sum::<f64>()
                 / 4.0;
             let k = usize::from(cx > 1.0);
@@ -371,7 +378,7 @@ mod tests {
         // both faces; exact up to the round-off of positions ~1e-2 m (1e-18 m), far below 1e-6 d
         let scene = Scene::from_toml_str(&crate::test_scenes::scene_text("tiny-fem-center-crack")).unwrap();
         let (model, mut state, _) = crate::model::build::build(&scene).unwrap();
-        let row = model.iface.as_ref().unwrap();
+        let row = model.interface.row.as_ref().unwrap();
         let d = 1e-6;
         for &n in &row.plus {
             state.u[n as usize] = Vector2::new(0.0, d);

@@ -36,9 +36,9 @@ impl Observer for Recorder<'_> {
         out.energy.push(energy::record(model, state, ws));
         section4(model, state, out);
         boundary_records(model, state, &mut out.boundary);
-        for (k, &n) in model.probes.iter().enumerate() {
+        for (k, &n) in model.observed.probes.iter().enumerate() {
             let n = n as usize;
-            let (x, u, v) = (model.x0[n], state.u[n], state.v[n]);
+            let (x, u, v) = (model.bulk.x0[n], state.u[n], state.v[n]);
             out.probes.push(ProbeRecord {
                 t: state.t,
                 probe: k,
@@ -56,7 +56,7 @@ impl Observer for Recorder<'_> {
 /// One record per part of `[fem.boundary]`: the mean displacement of its nodes and the sum of the
 /// reactions and loads of the DOFs it holds or loads, each summed in the DOFs' fixed order.
 fn boundary_records(model: &Model, state: &State, out: &mut Vec<BoundaryRecord>) {
-    let parts = &model.boundary_parts;
+    let parts = &model.boundary.parts;
     let first = out.len();
     for (k, nodes) in parts.nodes.iter().enumerate() {
         let u: Vector2<f64> = nodes.iter().map(|&n| state.u[n as usize]).sum();
@@ -74,17 +74,29 @@ fn boundary_records(model: &Model, state: &State, out: &mut Vec<BoundaryRecord>)
         let r = &mut out[first + part as usize];
         if dof == 0 { r.fx += f } else { r.fy += f }
     };
-    for ((p, &part), &r) in model.prescribed.iter().zip(&parts.prescribed).zip(&state.presc_r) {
+    for ((p, &part), &r) in model
+        .boundary
+        .prescribed
+        .iter()
+        .zip(&parts.prescribed)
+        .zip(&state.presc_r)
+    {
         add(part, p.dof, r);
     }
-    for ((p, &part), &f) in model.neumann.iter().zip(&parts.neumann).zip(&state.neumann_f) {
+    for ((p, &part), &f) in model
+        .boundary
+        .neumann
+        .iter()
+        .zip(&parts.neumann)
+        .zip(&state.neumann_f)
+    {
         add(part, p.dof, f);
     }
 }
 
 /// The Section 4 diagnostics the scene declares (none by default).
 fn section4(model: &Model, state: &State, out: &mut RunOutput) {
-    let d = &model.diagnostics;
+    let d = &model.observed.diagnostics;
     if let Some(range) = d.residual_stress_x {
         out.residual_stress.push(ResidualStressRecord {
             t: state.t,

@@ -15,7 +15,7 @@ use nalgebra::Vector2;
 const SEARCH_COLUMNS: usize = 100;
 
 fn pos(model: &Model, state: &State, n: u32) -> Vector2<f64> {
-    model.x0[n as usize] + state.u[n as usize]
+    model.bulk.x0[n as usize] + state.u[n as usize]
 }
 
 /// Distances within this fraction of the element size count as touching, neither open nor in
@@ -31,7 +31,7 @@ fn free_face(model: &Model, state: &State, row: &InterfaceRow, c: usize) -> bool
 /// The facets of the interface zones when the scene declares zones (the interface the Section 4
 /// comparison is about), else every facet.
 fn watched(model: &Model, c: usize) -> bool {
-    model.laws.len() <= 1 || model.facet_law[c] > 0
+    model.interface.laws.len() <= 1 || model.interface.facet_law[c] > 0
 }
 
 /// Facets adjacent to column i.
@@ -90,11 +90,11 @@ pub(crate) fn gaps(model: &Model, state: &State, row: &InterfaceRow, i: usize) -
 /// Compressive tractions [Pa] carried by the + and − copies of column i: the slave contact
 /// pressure (hybrid) or ε_n ⟨−δ_n⟩₊ of the frozen twin pair (standard, eq. 4).
 pub(crate) fn compressive(model: &Model, state: &State, row: &InterfaceRow, i: usize) -> (f64, f64) {
-    match (model.closing, &state.contact) {
+    match (model.interface.closing, &state.contact) {
         (ClosingTreatment::Standard { eps_n }, _) => {
             let mut n = Vector2::zeros();
             for c in adjacent(row, i).filter(|&c| state.facets.inserted[c]) {
-                n += midline_normal(row, &model.x0, &state.u, c, state.facets.sign[c]);
+                n += midline_normal(row, &model.bulk.x0, &state.u, c, state.facets.sign[c]);
             }
             if n == Vector2::zeros() {
                 return (0.0, 0.0);
@@ -132,10 +132,10 @@ pub(crate) fn kkt(model: &Model, state: &State) -> KktRecord {
         mismatch_nodes: 0,
         max_slip: 0.0,
     };
-    let Some(row) = &model.iface else { return r };
+    let Some(row) = &model.interface.row else { return r };
     // h: the grid spacing, or the mean facet length of a Gmsh mesh's interface
     let h = match model.grid() {
-        Some(_) => model.x0[1].x - model.x0[0].x,
+        Some(_) => model.bulk.x0[1].x - model.bulk.x0[0].x,
         None => row.length.iter().sum::<f64>() / row.num_facets() as f64,
     };
     let tol = TOUCH_TOLERANCE_OVER_H * h;
@@ -170,11 +170,16 @@ pub(crate) fn kkt(model: &Model, state: &State) -> KktRecord {
 /// the + element extrapolated to the facet Gauss points (docs/fem-model.md §1, §8.4), n the
 /// reference facet normal (− → +), so that a flat face gives the mean σ_xy.
 pub(crate) fn residual_stress(model: &Model, state: &State, [x0, x1]: [f64; 2]) -> f64 {
-    let Some(row) = &model.iface else { return 0.0 };
+    let Some(row) = &model.interface.row else {
+        return 0.0;
+    };
     let (mut integral, mut extent) = (0.0, 0.0);
     for c in 0..row.num_facets() {
         let [a, b] = row.facet_columns(c);
-        let (xa, xb) = (model.x0[row.plus[a] as usize].x, model.x0[row.plus[b] as usize].x);
+        let (xa, xb) = (
+            model.bulk.x0[row.plus[a] as usize].x,
+            model.bulk.x0[row.plus[b] as usize].x,
+        );
         if !crate::scene::in_range(0.5 * (xa + xb), [x0, x1]) {
             continue;
         }
@@ -221,7 +226,7 @@ pub(crate) fn snapshot(
             sxy,
         });
     }
-    let Some(row) = &model.iface else { return };
+    let Some(row) = &model.interface.row else { return };
     for i in 0..row.plus.len() {
         if !adjacent(row, i).any(|c| watched(model, c)) {
             continue;
@@ -235,7 +240,7 @@ pub(crate) fn snapshot(
         }
         let (gp, _) = gaps(model, state, row, i);
         let (pp, _) = compressive(model, state, row, i);
-        let x = model.x0[row.plus[i] as usize];
+        let x = model.bulk.x0[row.plus[i] as usize];
         profiles.push(ProfileRecord {
             snapshot: k,
             t: state.t,
@@ -266,7 +271,7 @@ mod tests {
         // ∫ (σn)·e_x dA = Gγ ∫ n_y dA = Gγ (x₁ − x₀) over any facet row: σ̄ = Gγ exactly
         let (scene, model, mut state) = sinusoid();
         let gamma = 1e-3;
-        for (u, x) in state.u.iter_mut().zip(&model.x0) {
+        for (u, x) in state.u.iter_mut().zip(&model.bulk.x0) {
             *u = Vector2::new(gamma * x.y, 0.0);
         }
         let expect = scene.material.shear_modulus * gamma;
@@ -277,7 +282,7 @@ mod tests {
     #[test]
     fn true_gap_of_a_lifted_face_is_the_lift_times_the_cosine_of_the_slope() {
         let (_, model, mut state) = sinusoid();
-        let row = model.iface.as_ref().unwrap();
+        let row = model.interface.row.as_ref().unwrap();
         let d = 1e-6;
         for &n in &row.plus {
             state.u[n as usize] = Vector2::new(0.0, d);
@@ -294,8 +299,8 @@ mod tests {
         }
         let slope = |k: usize| {
             let (a, b) = (
-                model.x0[row.minus[k] as usize],
-                model.x0[row.minus[k + 1] as usize],
+                model.bulk.x0[row.minus[k] as usize],
+                model.bulk.x0[row.minus[k + 1] as usize],
             );
             ((b.y - a.y) / (b.x - a.x)).abs()
         };

@@ -9,7 +9,8 @@ use crate::records::{ArrivalRecord, CrackRecord, CrackTipRecord, InterfaceRecord
 /// Interface coordinate of Gauss point q of facet c [m] (x on the built-in grids).
 fn gauss_x(model: &Model, c: usize, q: usize) -> f64 {
     let row = model
-        .iface
+        .interface
+        .row
         .as_ref()
         .expect("invariant: facets exist only with an interface row");
     let [xa, xb] = row.facet_span(c);
@@ -22,7 +23,7 @@ fn gauss_x(model: &Model, c: usize, q: usize) -> f64 {
 /// The walk stays on its chain: it stops where the next facet does not touch the previous one.
 fn walk(model: &Model, state: &State, order: impl Iterator<Item = (usize, usize)>, start: f64) -> (f64, f64) {
     let (mut tip, mut cz, mut broken_run) = (start, start, true);
-    let row = model.iface.as_ref().expect("invariant: interface row");
+    let row = model.interface.row.as_ref().expect("invariant: interface row");
     let mut prev: Option<usize> = None;
     for (c, q) in order {
         let joined = |p: usize| p == c || row.continues(p, c) || row.continues(c, p);
@@ -48,9 +49,10 @@ fn walk(model: &Model, state: &State, order: impl Iterator<Item = (usize, usize)
 /// Tip record at the current state; `None` without a pre-crack (no tips to speak of).
 pub(crate) fn tips(model: &Model, state: &State) -> Option<TipRecord> {
     let t = state.t;
-    let (xc, a) = model.crack?;
+    let (xc, a) = model.observed.crack?;
     let row = model
-        .iface
+        .interface
+        .row
         .as_ref()
         .expect("invariant: a pre-crack lies on the interface row");
     let nf = row.num_facets();
@@ -86,7 +88,7 @@ pub(crate) fn tips(model: &Model, state: &State) -> Option<TipRecord> {
 /// The cracked extent of every chain: one record per chain, in chain order. Each Gauss point of
 /// a cohesive facet stands for half the facet's length (the 2-point Gauss weights).
 pub(crate) fn crack_records(model: &Model, state: &State, out: &mut Vec<CrackRecord>) {
-    let Some(row) = &model.iface else { return };
+    let Some(row) = &model.interface.row else { return };
     let first = out.len();
     out.extend((0..row.num_chains()).map(|k| CrackRecord {
         t: state.t,
@@ -133,7 +135,7 @@ struct ChainPoint {
 /// The points of facets `facets` (one chain, in its order): a pre-crack facet by its two ends,
 /// a cohesive facet by its two Gauss points, a plain facet by one undamaged point.
 fn chain_points(model: &Model, state: &State, facets: std::ops::Range<usize>, out: &mut Vec<ChainPoint>) {
-    let row = model.iface.as_ref().expect("invariant: interface row");
+    let row = model.interface.row.as_ref().expect("invariant: interface row");
     out.clear();
     for c in facets {
         match row.kind[c] {
@@ -169,7 +171,7 @@ fn chain_points(model: &Model, state: &State, facets: std::ops::Range<usize>, ou
 /// no broken point is a process zone (NaN tips). These are the definitions of [`tips`], which
 /// follows the pre-crack's crack only. A closed chain's run across its first node is one run.
 pub(crate) fn crack_tip_records(model: &Model, state: &State, out: &mut Vec<CrackTipRecord>) {
-    let Some(row) = &model.iface else { return };
+    let Some(row) = &model.interface.row else { return };
     let nf = row.num_facets();
     let chain_of = |c: usize| row.chain[row.facet_columns(c)[0]];
     let mut points = Vec::new();
@@ -240,7 +242,7 @@ fn chain_label(row: &InterfaceRow, c: usize) -> Option<u16> {
 
 /// Damage per cohesive Gauss point.
 pub(crate) fn interface_records(model: &Model, state: &State, out: &mut Vec<InterfaceRecord>) {
-    let Some(row) = &model.iface else { return };
+    let Some(row) = &model.interface.row else { return };
     for c in 0..row.num_facets() {
         if row.kind[c] != FacetKind::Cohesive {
             continue;
@@ -265,7 +267,7 @@ pub(crate) fn interface_records(model: &Model, state: &State, out: &mut Vec<Inte
 
 /// Insertion and failure times per cohesive Gauss point.
 pub(crate) fn arrivals(model: &Model, state: &State) -> Vec<ArrivalRecord> {
-    let Some(row) = &model.iface else {
+    let Some(row) = &model.interface.row else {
         return Vec::new();
     };
     let mut out = Vec::new();

@@ -7,7 +7,7 @@ use crate::records::{ContactMeanRecord, FaceRecord};
 
 /// Whether column i of the interface row touches a pre-crack or cohesive facet.
 fn on_face(model: &Model, i: usize) -> bool {
-    let row = model.iface.as_ref().expect("invariant: interface row");
+    let row = model.interface.row.as_ref().expect("invariant: interface row");
     row.column_facets(i).any(|c| row.kind[c] != FacetKind::Plain)
 }
 
@@ -22,7 +22,7 @@ pub(crate) fn face_records(model: &Model, state: &State, out: &mut Vec<FaceRecor
         dropped_contacts_step: 0,
         dropped_contacts_total: 0,
     };
-    let (Some(row), Some(cp)) = (&model.iface, &state.contact) else {
+    let (Some(row), Some(cp)) = (&model.interface.row, &state.contact) else {
         return mean;
     };
     mean.dropped_contacts_step = cp.dropped_step;
@@ -47,7 +47,7 @@ pub(crate) fn face_records(model: &Model, state: &State, out: &mut Vec<FaceRecor
             t,
             // the + node's own x on a grid (the upper block may be offset), else the interface coordinate
             x: if model.grid().is_some() {
-                model.x0[n].x
+                model.bulk.x0[n].x
             } else {
                 row.coord[i]
             },

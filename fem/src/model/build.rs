@@ -11,7 +11,8 @@ use crate::model::face_stress::FaceStress;
 use crate::model::loading;
 use crate::model::mapped::{GaussShape, MappedStiffness, Trapezoid};
 use crate::model::state::{
-    BoundaryDof, BulkMesh, ContactPart, ElementNodes, EnergyTotals, Facets, GmshBulk, Model, State, Workspace,
+    Boundary, BoundaryDof, Bulk, BulkMesh, ContactPart, Damping, ElementNodes, EnergyTotals, Facets,
+    GmshBulk, Interface, Model, Observed, State, Workspace,
 };
 use crate::model::unstructured::{BulkMaterial, UnstructuredBulk};
 use crate::scene::MeshSpec;
@@ -171,11 +172,58 @@ pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State,
         .collect();
     let (laws, facet_law) = facet_laws(scene, &iface);
     let mut model = Model {
-        deferred,
-        mesh,
-        d: scene.materials().iter().map(|m| m.d_matrix()).collect(),
-        element_material: f.mesh.as_ref().map_or(Vec::new(), |m| m.element_material.clone()),
-        mass,
+        bulk: Bulk {
+            mesh,
+            d: scene.materials().iter().map(|m| m.d_matrix()).collect(),
+            element_material: f.mesh.as_ref().map_or(Vec::new(), |m| m.element_material.clone()),
+            mass,
+            deferred,
+            x0,
+        },
+        interface: Interface {
+            facet_detect: facet_law
+                .iter()
+                .map(|&k| match f.contact_surface {
+                    ContactSurface::All => true,
+                    ContactSurface::Zones => k > 0,
+                })
+                .collect(),
+            laws,
+            facet_law,
+            closing: match f.model {
+                ModelKind::Hybrid => ClosingTreatment::Hybrid,
+                ModelKind::Standard => ClosingTreatment::Standard { eps_n: f.eps_n },
+            },
+            insertion_rule: f.insertion_rule,
+            contact: scene.has_contact().then_some(ContactParams {
+                eps_n: f.eps_n,
+                eps_t: f.eps_t,
+                friction_coeff: scene.friction_coeff,
+                max_gap: f.max_gap,
+                projection_tolerance: f.projection_tolerance,
+            }),
+            friction_failed_only: scene.contact_friction == crate::scene::ContactFriction::FailedOnly,
+            row: iface,
+            facet_faces: Vec::new(),
+        },
+        boundary: Boundary {
+            ramps: bd.ramps,
+            prescribed: bd.prescribed,
+            neumann: bd.neumann,
+            parts: bd.parts,
+            fixed_dof,
+            held_twins,
+            lateral_contraction: f.lateral_contraction,
+        },
+        damping: Damping {
+            set: f.damping.set,
+            factor: f.damping.factor(scene.time_step()),
+        },
+        observed: Observed {
+            probes,
+            crack: scene.crack.map(|c| (c.center_x, c.half_length)),
+            diagnostics: f.diagnostics.clone(),
+        },
         dt: scene.time_step(),
         // the guard against a blow-up: no node outruns 10 times the fastest material's c_d
         cd: scene
@@ -183,45 +231,8 @@ pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State,
             .iter()
             .map(|m| m.wave_speeds().cd)
             .fold(0.0, f64::max),
-        facet_detect: facet_law
-            .iter()
-            .map(|&k| match f.contact_surface {
-                ContactSurface::All => true,
-                ContactSurface::Zones => k > 0,
-            })
-            .collect(),
-        laws,
-        facet_law,
-        closing: match f.model {
-            ModelKind::Hybrid => ClosingTreatment::Hybrid,
-            ModelKind::Standard => ClosingTreatment::Standard { eps_n: f.eps_n },
-        },
-        insertion_rule: f.insertion_rule,
-        friction_failed_only: scene.contact_friction == crate::scene::ContactFriction::FailedOnly,
-        damping: f.damping.set,
-        damping_factor: f.damping.factor(scene.time_step()),
-        contact: scene.has_contact().then_some(ContactParams {
-            eps_n: f.eps_n,
-            eps_t: f.eps_t,
-            friction_coeff: scene.friction_coeff,
-            max_gap: f.max_gap,
-            projection_tolerance: f.projection_tolerance,
-        }),
-        ramps: bd.ramps,
-        prescribed: bd.prescribed,
-        neumann: bd.neumann,
-        boundary_parts: bd.parts,
-        fixed_dof,
-        held_twins,
-        probes,
-        crack: scene.crack.map(|c| (c.center_x, c.half_length)),
-        lateral_contraction: f.lateral_contraction,
-        diagnostics: f.diagnostics.clone(),
-        iface,
-        facet_faces: Vec::new(),
-        x0,
     };
-    model.facet_faces = facet_faces(&model);
+    model.interface.facet_faces = facet_faces(&model);
     let state = initial_state(&model);
     let ws = workspace(&model);
     Ok((model, state, ws))
@@ -229,7 +240,7 @@ pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State,
 
 /// How each interface facet samples the stress of its (+, −) elements (insertion).
 fn facet_faces(model: &Model) -> Vec<[FaceStress; 2]> {
-    let Some(row) = &model.iface else {
+    let Some(row) = &model.interface.row else {
         return Vec::new();
     };
     (0..row.num_facets())
@@ -237,7 +248,7 @@ fn facet_faces(model: &Model) -> Vec<[FaceStress; 2]> {
             let [ep, em] = row.face_edges[c];
             [(row.elem_plus[c], ep), (row.elem_minus[c], em)].map(|(e, edge)| {
                 crate::model::face_stress::face_of(
-                    &model.x0,
+                    &model.bulk.x0,
                     model.element_nodes(e as usize).as_slice(),
                     edge as usize,
                 )
@@ -326,11 +337,11 @@ fn lumped_masses(grid: &Grid, density: f64) -> Vec<f64> {
 /// Every buffer of the step, sized once.
 fn workspace(model: &Model) -> Workspace {
     let n = model.num_nodes();
-    let with_contact = model.contact.is_some();
+    let with_contact = model.interface.contact.is_some();
     Workspace {
         f: vec![Vector2::zeros(); n],
         x: if with_contact {
-            model.x0.clone()
+            model.bulk.x0.clone()
         } else {
             Vec::new()
         },
@@ -339,13 +350,13 @@ fn workspace(model: &Model) -> Workspace {
         } else {
             Vec::new()
         },
-        frictionless: if with_contact && model.friction_failed_only {
+        frictionless: if with_contact && model.interface.friction_failed_only {
             vec![false; n]
         } else {
             Vec::new()
         },
-        row_u_old: vec![Vector2::zeros(); model.iface.as_ref().map_or(0, |r| 2 * r.minus.len())],
-        ramp_values: vec![0.0; model.ramps.len()],
+        row_u_old: vec![Vector2::zeros(); model.interface.row.as_ref().map_or(0, |r| 2 * r.minus.len())],
+        ramp_values: vec![0.0; model.boundary.ramps.len()],
         strain_energy: 0.0,
         clock: Default::default(),
         predicted: false,
@@ -400,7 +411,7 @@ fn stiffness(grid: &Grid, d: &[[f64; 3]; 3]) -> Result<Stiffness, BuildError> {
 
 fn initial_state(model: &Model) -> State {
     let n = model.num_nodes();
-    let nf = model.iface.as_ref().map_or(0, |r| r.num_facets());
+    let nf = model.interface.row.as_ref().map_or(0, |r| r.num_facets());
     let zero_state = CohesiveState {
         sigma_c_eff: 0.0,
         delta_c_eff: 1.0,
@@ -418,11 +429,11 @@ fn initial_state(model: &Model) -> State {
         fail_time: vec![[f64::NAN; 2]; nf],
         work_density: vec![[0.0; 2]; nf],
         active: Vec::with_capacity(nf),
-        column_insert_time: vec![f64::NAN; model.iface.as_ref().map_or(1, |r| r.minus.len())],
+        column_insert_time: vec![f64::NAN; model.interface.row.as_ref().map_or(1, |r| r.minus.len())],
     };
     let mut tied_twin = vec![u32::MAX; n];
     let mut contact = None;
-    if let Some(row) = &model.iface {
+    if let Some(row) = &model.interface.row {
         for i in 0..row.minus.len() {
             // a crack tip inside the body is one node, not a pair; a junction's columns are tied
             // below, as a group
@@ -437,11 +448,11 @@ fn initial_state(model: &Model) -> State {
         for j in 0..row.junctions.len() {
             tie_junction(row, &facets.inserted, j, &mut tied_twin);
         }
-        if model.contact.is_some() {
+        if model.interface.contact.is_some() {
             let cap = 2 * row.num_interface_facets();
             let mut surface = DetectionSurface::with_capacity(n, cap);
             for c in 0..row.num_facets() {
-                if row.kind[c] == FacetKind::PreCrack && model.facet_detect[c] {
+                if row.kind[c] == FacetKind::PreCrack && model.interface.facet_detect[c] {
                     add_facet_faces(&mut surface, row, c);
                 }
             }
@@ -466,10 +477,10 @@ fn initial_state(model: &Model) -> State {
         facets,
         contact,
         energy: EnergyTotals::default(),
-        presc_u: vec![0.0; model.prescribed.len()],
-        presc_v: vec![0.0; model.prescribed.len()],
-        presc_r: vec![0.0; model.prescribed.len()],
-        neumann_f: vec![0.0; model.neumann.len()],
+        presc_u: vec![0.0; model.boundary.prescribed.len()],
+        presc_v: vec![0.0; model.boundary.prescribed.len()],
+        presc_r: vec![0.0; model.boundary.prescribed.len()],
+        neumann_f: vec![0.0; model.boundary.neumann.len()],
     }
 }
 

@@ -40,13 +40,13 @@ pub(crate) fn assemble(
     f: &mut [Vector2<f64>],
     t: f64,
 ) -> f64 {
-    let Some(row) = &model.iface else {
+    let Some(row) = &model.interface.row else {
         return 0.0;
     };
     let mut work = 0.0;
     for k in 0..facets.active.len() {
         let c = facets.active[k] as usize;
-        let law = &model.laws[model.facet_law[c] as usize];
+        let law = &model.interface.laws[model.interface.facet_law[c] as usize];
         work += element(model, row, law, facets, c, u, f, t);
     }
     work
@@ -66,13 +66,13 @@ fn element(
     let [a, b] = row.facet_columns(c);
     let nodes = [row.plus[a], row.plus[b], row.minus[a], row.minus[b]].map(|n| n as usize);
     let un = nodes.map(|n| u[n]);
-    let xn = nodes.map(|n| model.x0[n] + u[n]);
+    let xn = nodes.map(|n| model.bulk.x0[n] + u[n]);
     let geometry = FacetGeometry {
         length: row.length[c],
         sign: facets.sign[c],
     };
     let mut states = facets.gauss[c];
-    let out = element_forces(law, model.closing, &geometry, &xn, &un, &mut states);
+    let out = element_forces(law, model.interface.closing, &geometry, &xn, &un, &mut states);
     let mut work = 0.0;
     for (q, state) in states.iter().enumerate() {
         // trapezoid ⟨T⟩·ΔΔ (Akantu): the discrete work of the nodal forces, which closes the balance
@@ -153,7 +153,9 @@ pub fn element_forces(
 
 /// Reversible cohesive energy Σ (L₀/2) ½ T·Δ [J/m] of the inserted elements.
 pub(crate) fn reversible_energy(model: &Model, facets: &Facets) -> f64 {
-    let Some(row) = &model.iface else { return 0.0 };
+    let Some(row) = &model.interface.row else {
+        return 0.0;
+    };
     facets
         .active
         .iter()

@@ -45,10 +45,10 @@ pub(crate) fn check_and_insert(
     u: &[Vector2<f64>],
     t: f64,
 ) -> usize {
-    let Some(row) = &model.iface else {
+    let Some(row) = &model.interface.row else {
         return 0;
     };
-    if model.laws.is_empty() {
+    if model.interface.laws.is_empty() {
         return 0;
     }
     let mut contact = contact;
@@ -57,9 +57,9 @@ pub(crate) fn check_and_insert(
         if row.kind[c] != FacetKind::Cohesive || facets.inserted[c] {
             continue;
         }
-        let law = &model.laws[model.facet_law[c] as usize];
+        let law = &model.interface.laws[model.interface.facet_law[c] as usize];
         let tq = facet_tractions(model, row, law, c, u);
-        let reach = match model.insertion_rule {
+        let reach = match model.interface.insertion_rule {
             InsertionRule::Max => tq[0].1.max(tq[1].1) >= law.sigma_c,
             InsertionRule::Mean => 0.5 * (tq[0].1 + tq[1].1) > law.sigma_c,
         };
@@ -71,7 +71,7 @@ pub(crate) fn check_and_insert(
         for i in ends {
             facets.column_insert_time[i] = t;
         }
-        if let Some(cp) = contact.as_deref_mut().filter(|_| model.facet_detect[c]) {
+        if let Some(cp) = contact.as_deref_mut().filter(|_| model.interface.facet_detect[c]) {
             add_facet_faces(&mut cp.surface, row, c);
         }
         for i in ends {
@@ -104,11 +104,11 @@ fn insert(
         let nodes = nodes.as_slice();
         nodes
             .iter()
-            .map(|&n| model.x0[n as usize] + u[n as usize])
+            .map(|&n| model.bulk.x0[n as usize] + u[n as usize])
             .sum::<Vector2<f64>>()
             / nodes.len() as f64
     };
-    let n_plain = crate::model::cohesive::midline_normal(row, &model.x0, u, c, 1.0);
+    let n_plain = crate::model::cohesive::midline_normal(row, &model.bulk.x0, u, c, 1.0);
     let up = centroid(row.elem_plus[c]) - centroid(row.elem_minus[c]);
     facets.sign[c] = if n_plain.dot(&up) > 0.0 { 1.0 } else { -1.0 };
     for (q, &(traction, eff)) in tq.iter().enumerate() {

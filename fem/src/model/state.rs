@@ -6,8 +6,9 @@ use crate::law::cohesive::{ClosingTreatment, CohesiveState, LinearCohesive};
 use crate::mesh::interfaces::InterfaceRow;
 use crate::mesh::structured::Grid;
 use crate::model::bulk::Stiffness;
+use crate::model::face_stress::FaceStress;
 use crate::model::unstructured::UnstructuredBulk;
-use crate::scene::{DampingSet, InsertionRule, Ramp};
+use crate::scene::{DampingSet, Diagnostics, InsertionRule, Ramp};
 use nalgebra::Vector2;
 
 /// One boundary DOF whose value (displacement [m] or force [N/m]) is Σ_k coeff_k · ramp_k(t).
@@ -43,61 +44,108 @@ pub(crate) struct BoundaryParts {
     pub neumann: Vec<u16>,
 }
 
-/// The model: mesh, topology, parameters. Immutable during the run.
+/// The model: mesh, topology, parameters, in five rooms. Immutable during the run.
 #[derive(Debug)]
 pub struct Model {
-    /// Reference node positions X [m] (twins share a position).
-    pub(crate) x0: Vec<Vector2<f64>>,
-    pub(crate) mesh: BulkMesh,
-    /// Plane-strain Voigt matrix D [Pa] of each bulk material (0: `[material]`).
-    pub(crate) d: Vec<[[f64; 3]; 3]>,
-    /// Material index of each bulk element (empty: every element is of material 0).
-    pub(crate) element_material: Vec<u8>,
-    /// Lumped nodal mass [kg/m].
-    pub(crate) mass: Vec<f64>,
+    /// The bulk: nodes, elements, materials, masses.
+    pub(crate) bulk: Bulk,
+    /// The interface row and what acts on it: cohesive laws, insertion, contact and friction.
+    pub(crate) interface: Interface,
+    /// The boundary conditions, with the parts `boundary.csv` reports.
+    pub(crate) boundary: Boundary,
+    /// Velocity damping of interface nodes (docs/fem-model.md §6).
+    pub(crate) damping: Damping,
+    /// What the observers record beyond the state: probes, the pre-crack, Section 4 diagnostics.
+    pub(crate) observed: Observed,
     /// Time step Δt [s].
     pub(crate) dt: f64,
-    /// Dilatational speed c_d [m/s] (stability guard; the fastest material's).
+    /// Dilatational speed c_d [m/s] of the fastest material (the stability guard's scale).
     pub(crate) cd: f64,
-    pub(crate) iface: Option<InterfaceRow>,
+}
+
+/// The bulk of the model: where the nodes are, how the elements join them, what they weigh.
+#[derive(Debug)]
+pub(crate) struct Bulk {
+    /// Reference node positions X [m] (twins share a position).
+    pub x0: Vec<Vector2<f64>>,
+    /// The elements and their internal-force kernel (grid or Gmsh mesh).
+    pub mesh: BulkMesh,
+    /// Plane-strain Voigt matrix D [Pa] of each bulk material (0: `[material]`).
+    pub d: Vec<[[f64; 3]; 3]>,
+    /// Material index of each bulk element (empty: every element is of material 0).
+    pub element_material: Vec<u8>,
+    /// Lumped nodal mass [kg/m].
+    pub mass: Vec<f64>,
+    /// Per layer of the grid: kept out of the one-pass sweep of unsampled steps
+    /// (`solver::sweep`); empty on a Gmsh mesh.
+    pub deferred: Vec<bool>,
+}
+
+/// The interface row and what acts on it (paper §2: extrinsic cohesive elements, eqs. 2–3, and
+/// node-to-segment contact with Coulomb friction, eqs. 4–8).
+#[derive(Debug)]
+pub(crate) struct Interface {
+    /// The twinned row of nodes and its facets (`None`: no interface and no pre-crack).
+    pub row: Option<InterfaceRow>,
     /// Stress sampling of the (+, −) elements of each interface facet (insertion checks).
-    pub(crate) facet_faces: Vec<[crate::model::face_stress::FaceStress; 2]>,
+    pub facet_faces: Vec<[FaceStress; 2]>,
     /// Cohesive laws: 0 = `[interface]`, k = `interface_zones[k − 1]`; empty without an interface.
-    pub(crate) laws: Vec<LinearCohesive>,
+    pub laws: Vec<LinearCohesive>,
     /// Law index of each facet of the interface row.
-    pub(crate) facet_law: Vec<u8>,
+    pub facet_law: Vec<u8>,
     /// Whether each facet's faces join Γ_det once free (pre-crack) or inserted (eqs. 10, 16).
-    pub(crate) facet_detect: Vec<bool>,
-    pub(crate) closing: ClosingTreatment,
-    pub(crate) insertion_rule: InsertionRule,
-    /// Which interface nodes are damped.
-    pub(crate) damping: DampingSet,
-    /// Velocity factor c per step of the damped nodes [-] (1: none).
-    pub(crate) damping_factor: f64,
-    pub(crate) contact: Option<ContactParams>,
-    /// Friction only on faces whose facets have fully failed.
-    pub(crate) friction_failed_only: bool,
+    pub facet_detect: Vec<bool>,
+    /// How closed cohesive elements resist interpenetration: the hybrid model's contact, or the
+    /// standard model's compression penalty (eq. 4).
+    pub closing: ClosingTreatment,
+    /// Where the insertion check reads the stress (docs/fem-model.md §4).
+    pub insertion_rule: InsertionRule,
+    /// Contact penalties ε_n, ε_t [Pa/m], friction coefficient [-] and detection distances [m]
+    /// (`None`: no contact surface).
+    pub contact: Option<ContactParams>,
+    /// Friction only on faces whose facets have fully failed (`contact_friction = "failed_only"`).
+    pub friction_failed_only: bool,
+}
+
+/// The boundary conditions: prescribed displacements and loads, each a sum of ramps.
+#[derive(Debug)]
+pub(crate) struct Boundary {
     /// Time histories referenced by the boundary DOFs.
-    pub(crate) ramps: Vec<Ramp>,
-    pub(crate) prescribed: Vec<BoundaryDof>,
-    pub(crate) neumann: Vec<BoundaryDof>,
+    pub ramps: Vec<Ramp>,
+    /// The prescribed DOFs: displacement [m] as a sum of ramps.
+    pub prescribed: Vec<BoundaryDof>,
+    /// The loaded DOFs: force [N/m] as a sum of ramps.
+    pub neumann: Vec<BoundaryDof>,
     /// The parts of `[fem.boundary]` and which part each prescribed and Neumann DOF belongs to.
-    pub(crate) boundary_parts: BoundaryParts,
-    /// Per layer: kept out of the one-pass sweep of unsampled steps (`solver::sweep`).
-    pub(crate) deferred: Vec<bool>,
+    pub parts: BoundaryParts,
     /// Per node and component (x, y): the DOF is prescribed.
-    pub(crate) fixed_dof: Vec<[bool; 2]>,
+    pub fixed_dof: Vec<[bool; 2]>,
     /// (index into `prescribed`, twin node) for each prescribed DOF whose node has a twin that
     /// is free in that component: a chain end where a held boundary curve ends. While the pair
     /// is tied the twin follows the prescribed motion and its force goes to the support.
-    pub(crate) held_twins: Vec<(u32, u32)>,
+    pub held_twins: Vec<(u32, u32)>,
+    /// The Westergaard boundary field has the lateral-contraction term (docs/fem-model.md §7).
+    pub lateral_contraction: bool,
+}
+
+/// Velocity damping of interface nodes: v ← c v on the damped set after each step.
+#[derive(Debug)]
+pub(crate) struct Damping {
+    /// Which interface nodes are damped.
+    pub set: DampingSet,
+    /// Velocity factor c per step of the damped nodes [-] (1: none).
+    pub factor: f64,
+}
+
+/// What the observers record beyond the state.
+#[derive(Debug)]
+pub(crate) struct Observed {
     /// Probe node ids.
-    pub(crate) probes: Vec<u32>,
-    /// Pre-crack (x_c, a) [m].
-    pub(crate) crack: Option<(f64, f64)>,
-    pub(crate) lateral_contraction: bool,
+    pub probes: Vec<u32>,
+    /// Pre-crack (x_c, a) [m]: its centre and half-length, for the tip records.
+    pub crack: Option<(f64, f64)>,
     /// Section 4 diagnostics to record.
-    pub(crate) diagnostics: crate::scene::Diagnostics,
+    pub diagnostics: Diagnostics,
 }
 
 /// The bulk mesh and its internal-force kernel.
@@ -255,12 +303,12 @@ impl Model {
 
     /// Number of nodes (twins counted twice).
     pub fn num_nodes(&self) -> usize {
-        self.x0.len()
+        self.bulk.x0.len()
     }
 
     /// Number of bulk elements.
     pub fn num_elements(&self) -> usize {
-        match &self.mesh {
+        match &self.bulk.mesh {
             BulkMesh::Grid { grid, .. } => grid.num_elements(),
             BulkMesh::Gmsh(g) => g.elements.len(),
         }
@@ -268,7 +316,7 @@ impl Model {
 
     /// The structured grid, if the model is built on one.
     pub(crate) fn grid(&self) -> Option<&Grid> {
-        match &self.mesh {
+        match &self.bulk.mesh {
             BulkMesh::Grid { grid, .. } => Some(grid),
             BulkMesh::Gmsh(_) => None,
         }
@@ -277,13 +325,13 @@ impl Model {
     /// Plane-strain Voigt matrix D [Pa] of bulk element `e`'s material.
     #[inline]
     pub(crate) fn d_of(&self, e: usize) -> &[[f64; 3]; 3] {
-        &self.d[self.element_material.get(e).copied().unwrap_or(0) as usize]
+        &self.bulk.d[self.bulk.element_material.get(e).copied().unwrap_or(0) as usize]
     }
 
     /// The nodes of bulk element `e`, counter-clockwise.
     #[inline]
     pub(crate) fn element_nodes(&self, e: usize) -> ElementNodes {
-        match &self.mesh {
+        match &self.bulk.mesh {
             BulkMesh::Grid { grid, .. } => ElementNodes {
                 nodes: grid.element_nodes(e),
                 len: 4,
@@ -295,7 +343,7 @@ impl Model {
     /// f = −f_int(u) [N/m] for every node (overwrites `f`); parallel and the same to the bit for
     /// any number of threads.
     pub(crate) fn internal_forces(&self, u: &[Vector2<f64>], f: &mut [Vector2<f64>]) {
-        match &self.mesh {
+        match &self.bulk.mesh {
             BulkMesh::Grid { grid, stiffness } => crate::model::bulk::internal_forces(grid, stiffness, u, f),
             BulkMesh::Gmsh(g) => g.kernel.internal_forces(u, f),
         }

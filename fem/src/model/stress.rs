@@ -40,8 +40,12 @@ pub(crate) fn facet_side<const N: usize>(
     // the facet runs forwards along the + element's edge (the element lies to its left) and
     // backwards along the − element's
     let (e, face, at) = match side {
-        Side::Plus => (row.elem_plus[c], &model.facet_faces[c][0], s),
-        Side::Minus => (row.elem_minus[c], &model.facet_faces[c][1], s.map(|s| -s)),
+        Side::Plus => (row.elem_plus[c], &model.interface.facet_faces[c][0], s),
+        Side::Minus => (
+            row.elem_minus[c],
+            &model.interface.facet_faces[c][1],
+            s.map(|s| -s),
+        ),
     };
     face.sample(
         model.d_of(e as usize),
@@ -55,9 +59,13 @@ pub(crate) fn facet_side<const N: usize>(
 pub(crate) fn element_mean(model: &Model, e: usize, u: &[Vector2<f64>]) -> (Vector2<f64>, [f64; 3]) {
     let nodes = model.element_nodes(e);
     let nodes = nodes.as_slice();
-    let centre = nodes.iter().map(|&n| model.x0[n as usize]).sum::<Vector2<f64>>() / nodes.len() as f64;
+    let centre = nodes
+        .iter()
+        .map(|&n| model.bulk.x0[n as usize])
+        .sum::<Vector2<f64>>()
+        / nodes.len() as f64;
     let ue = element_displacements(model, e, u);
-    let face = face_of(&model.x0, nodes, 0);
+    let face = face_of(&model.bulk.x0, nodes, 0);
     let sig = match face {
         FaceStress::T3 { .. } => face.sample(model.d_of(e), &ue, [0.0])[0],
         FaceStress::Q4 { grads, .. } => {

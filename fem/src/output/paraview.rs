@@ -304,7 +304,7 @@ mod tests {
         let text = crate::test_scenes::scene_text("tiny-fem-center-crack");
         let scene = crate::scene::Scene::from_toml_str(&text).unwrap();
         let (model, mut state, _) = crate::model::build::build(&scene).unwrap();
-        for (u, x) in state.u.iter_mut().zip(&model.x0) {
+        for (u, x) in state.u.iter_mut().zip(&model.bulk.x0) {
             *u = nalgebra::Vector2::new(2e-4 * x.x + 3e-4 * x.y, -1e-4 * x.x - 5e-4 * x.y);
         }
         let snap = crate::diag::fields::snapshot(&model, &state);

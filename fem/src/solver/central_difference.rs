@@ -25,7 +25,7 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
     let dt = model.dt;
     let t1 = state.t + dt;
     ws.clock.start();
-    for (v, r) in ws.ramp_values.iter_mut().zip(&model.ramps) {
+    for (v, r) in ws.ramp_values.iter_mut().zip(&model.boundary.ramps) {
         *v = r.value(t1);
     }
     save_row_displacements(model, state, ws);
@@ -138,7 +138,7 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
 }
 
 fn save_row_displacements(model: &Model, state: &State, ws: &mut Workspace) {
-    if let (Some(row), Some(_)) = (&model.iface, &state.contact) {
+    if let (Some(row), Some(_)) = (&model.interface.row, &state.contact) {
         let m = row.minus.len();
         for i in 0..m {
             ws.row_u_old[i] = state.u[row.minus[i] as usize];
@@ -174,7 +174,7 @@ fn predictor_twinned_layers(model: &Model, state: &mut State, dt: f64) {
 
 /// u = ū(t_{n+1}) and v = (ū(t_{n+1}) − ū(t_n))/Δt on prescribed DOFs (docs/fem-model.md §2, §9 step 3).
 fn prescribe(model: &Model, state: &mut State, ws: &Workspace, dt: f64) {
-    for (k, p) in model.prescribed.iter().enumerate() {
+    for (k, p) in model.boundary.prescribed.iter().enumerate() {
         let ubar = p.value(&ws.ramp_values);
         let n = p.node as usize;
         let d = p.dof as usize;
@@ -182,8 +182,8 @@ fn prescribe(model: &Model, state: &mut State, ws: &Workspace, dt: f64) {
         state.v[n][d] = (ubar - state.presc_u[k]) / dt;
     }
     // a twin tied to a held node moves with it (one node until the facet is inserted)
-    for &(k, t) in &model.held_twins {
-        let p = &model.prescribed[k as usize];
+    for &(k, t) in &model.boundary.held_twins {
+        let p = &model.boundary.prescribed[k as usize];
         let (n, d, t) = (p.node as usize, p.dof as usize, t as usize);
         if state.tied_twin[n] == t as u32 {
             state.u[t][d] = state.u[n][d];
@@ -197,8 +197,8 @@ fn prescribe(model: &Model, state: &mut State, ws: &Workspace, dt: f64) {
 /// its imposed motion (see [`reactions`]). Runs before `reactions`, which then sees the pair's
 /// whole force on the held node.
 fn support_held_twins(model: &Model, state: &mut State, ws: &mut Workspace) {
-    for &(k, t) in &model.held_twins {
-        let p = &model.prescribed[k as usize];
+    for &(k, t) in &model.boundary.held_twins {
+        let p = &model.boundary.prescribed[k as usize];
         let (n, d, t) = (p.node as usize, p.dof as usize, t as usize);
         if state.tied_twin[n] != t as u32 {
             continue;
@@ -206,15 +206,15 @@ fn support_held_twins(model: &Model, state: &mut State, ws: &mut Workspace) {
         ws.f[n][d] += ws.f[t][d];
         ws.f[t][d] = 0.0;
         let (vbar, vold) = (state.v[n][d], state.presc_v[k as usize]);
-        state.energy.boundary_work += 0.5 * model.mass[t] * (vbar * vbar - vold * vold);
+        state.energy.boundary_work += 0.5 * model.bulk.mass[t] * (vbar * vbar - vold * vold);
     }
 }
 
 /// After `combine_tied` shared the pair's forces by mass, the held component of the tied twin is
 /// set back to no force, so that it keeps the imposed velocity through the corrector.
 fn release_held_twins(model: &Model, state: &State, ws: &mut Workspace) {
-    for &(k, t) in &model.held_twins {
-        let p = &model.prescribed[k as usize];
+    for &(k, t) in &model.boundary.held_twins {
+        let p = &model.boundary.prescribed[k as usize];
         if state.tied_twin[p.node as usize] == t {
             ws.f[t as usize][p.dof as usize] = 0.0;
         }
@@ -222,7 +222,7 @@ fn release_held_twins(model: &Model, state: &State, ws: &mut Workspace) {
 }
 
 fn external_forces(model: &Model, state: &mut State, ws: &mut Workspace) {
-    for (k, p) in model.neumann.iter().enumerate() {
+    for (k, p) in model.boundary.neumann.iter().enumerate() {
         let fnew = p.value(&ws.ramp_values);
         let n = p.node as usize;
         let d = p.dof as usize;
@@ -247,13 +247,13 @@ fn external_forces(model: &Model, state: &mut State, ws: &mut Workspace) {
 /// a node whose motion is imposed is exactly the change of its kinetic energy, so that part is
 /// booked exactly; the residual is then O(Δt²).
 fn reactions(model: &Model, state: &mut State, ws: &Workspace) {
-    for (k, p) in model.prescribed.iter().enumerate() {
+    for (k, p) in model.boundary.prescribed.iter().enumerate() {
         let n = p.node as usize;
         let d = p.dof as usize;
         let ubar = state.u[n][d];
         let vbar = state.v[n][d];
         let r = -ws.f[n][d];
-        let inertia = 0.5 * model.mass[n] * (vbar * vbar - state.presc_v[k] * state.presc_v[k]);
+        let inertia = 0.5 * model.bulk.mass[n] * (vbar * vbar - state.presc_v[k] * state.presc_v[k]);
         state.energy.boundary_work += 0.5 * (state.presc_r[k] + r) * (ubar - state.presc_u[k]) + inertia;
         state.presc_r[k] = r;
         state.presc_u[k] = ubar;
@@ -264,13 +264,13 @@ fn reactions(model: &Model, state: &mut State, ws: &Workspace) {
 /// Tied pairs move as one node: f⁻, f⁺ ← (f⁻ + f⁺) m^∓/(m⁻ + m⁺), so a = (f⁻+f⁺)/(m⁻+m⁺) on both.
 /// A tie group of k copies at a junction likewise: f_i ← (Σ_g f) m_i/Σ_g m over its ring g.
 fn combine_tied(model: &Model, state: &State, ws: &mut Workspace) {
-    let Some(row) = &model.iface else { return };
+    let Some(row) = &model.interface.row else { return };
     for i in 0..row.minus.len() {
         let (m, p) = (row.minus[i] as usize, row.plus[i] as usize);
         if m == p || row.col_junction[i] != NO_JUNCTION || state.tied_twin[m] != p as u32 {
             continue;
         }
-        let (mm, mp) = (model.mass[m], model.mass[p]);
+        let (mm, mp) = (model.bulk.mass[m], model.bulk.mass[p]);
         let sum = ws.f[m] + ws.f[p];
         ws.f[m] = sum * (mm / (mm + mp));
         ws.f[p] = sum * (mp / (mm + mp));
@@ -281,10 +281,10 @@ fn combine_tied(model: &Model, state: &State, ws: &mut Workspace) {
             if state.tied_twin[c] == u32::MAX || ring(&state.tied_twin, c).any(|n| n < c) {
                 continue;
             }
-            let mass: f64 = ring(&state.tied_twin, c).map(|n| model.mass[n]).sum();
+            let mass: f64 = ring(&state.tied_twin, c).map(|n| model.bulk.mass[n]).sum();
             let sum: Vector2<f64> = ring(&state.tied_twin, c).map(|n| ws.f[n]).sum();
             for n in ring(&state.tied_twin, c) {
-                ws.f[n] = sum * (model.mass[n] / mass);
+                ws.f[n] = sum * (model.bulk.mass[n] / mass);
             }
         }
     }
@@ -339,7 +339,7 @@ fn corrector(model: &Model, state: &mut State, ws: &Workspace, dt: f64, fuse: bo
         .par_chunks_mut(w)
         .zip(state.v.par_chunks_mut(w))
         .zip(state.u.par_chunks_mut(w))
-        .zip(ws.f.par_chunks(w).zip(model.mass.par_chunks(w)))
+        .zip(ws.f.par_chunks(w).zip(model.bulk.mass.par_chunks(w)))
         .enumerate()
         .with_min_len(crate::model::layers::BAND)
         .map(|(layer, (((a, v), u), (f, m)))| {
@@ -399,7 +399,7 @@ impl Nodes<'_> {
 }
 
 fn restore_prescribed(model: &Model, state: &mut State) {
-    for (k, p) in model.prescribed.iter().enumerate() {
+    for (k, p) in model.boundary.prescribed.iter().enumerate() {
         let n = p.node as usize;
         let d = p.dof as usize;
         state.v[n][d] = state.presc_v[k];
@@ -411,17 +411,17 @@ fn restore_prescribed(model: &Model, state: &mut State) {
 /// both twins of a tied pair, every free component (a prescribed component keeps its imposed
 /// velocity, the other is damped like its neighbours'); the removed energy goes to E_damp.
 fn damping(model: &Model, state: &mut State) {
-    let Some(row) = &model.iface else { return };
-    if model.damping == DampingSet::None {
+    let Some(row) = &model.interface.row else { return };
+    if model.damping.set == DampingSet::None {
         return;
     }
-    let c = model.damping_factor;
+    let c = model.damping.factor;
     let in_contact = |n: usize| state.contact.as_ref().is_some_and(|cp| cp.state.in_contact[n]);
     let mut removed = 0.0;
     let sets = |i: usize| {
         let inserted = state.facets.column_insert_time[i];
         let recent = |window: f64| state.t - inserted < window;
-        match model.damping {
+        match model.damping.set {
             DampingSet::None => (false, false),
             DampingSet::ContactOnly => (false, true),
             DampingSet::Inserted { window } => (recent(window), false),
@@ -448,10 +448,10 @@ fn damping(model: &Model, state: &mut State) {
             let twin = if node == m { p } else { m };
             for d in 0..2 {
                 // a tied twin of a held node moves with it in that component
-                let held = model.fixed_dof[node][d] || tied && model.fixed_dof[twin][d];
+                let held = model.boundary.fixed_dof[node][d] || tied && model.boundary.fixed_dof[twin][d];
                 if !held {
                     let v = state.v[node][d];
-                    removed += 0.5 * model.mass[node] * (1.0 - c * c) * v * v;
+                    removed += 0.5 * model.bulk.mass[node] * (1.0 - c * c) * v * v;
                     state.v[node][d] *= c;
                 }
             }
@@ -475,7 +475,7 @@ fn damping(model: &Model, state: &mut State) {
             for d in 0..2 {
                 // junction copies are never held (refused at build)
                 let v = state.v[c][d];
-                removed += 0.5 * model.mass[c] * (1.0 - factor * factor) * v * v;
+                removed += 0.5 * model.bulk.mass[c] * (1.0 - factor * factor) * v * v;
                 state.v[c][d] *= factor;
             }
         }
@@ -552,7 +552,12 @@ mod tests {
         let mut out = crate::records::RunOutput::default();
         for n in 1..=steps {
             if tamper && n == steps / 2 {
-                model.contact.as_mut().expect("invariant: contact").eps_n *= 0.5;
+                model
+                    .interface
+                    .contact
+                    .as_mut()
+                    .expect("invariant: contact")
+                    .eps_n *= 0.5;
             }
             super::step(&model, &mut state, &mut ws, true).unwrap();
             out.energy.push(crate::diag::energy::record(&model, &state, &ws));

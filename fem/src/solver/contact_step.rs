@@ -8,14 +8,18 @@ use nalgebra::Vector2;
 /// The positions x_{n+1} of Γ_det's nodes (only those are read by `resolve`) and, with
 /// `contact_friction = "failed_only"`, which nodes have no friction this step.
 pub(crate) fn prepare(model: &Model, state: &State, ws: &mut Workspace) {
-    let (Some(_), Some(row), Some(_)) = (&model.contact, &model.iface, state.contact.as_ref()) else {
+    let (Some(_), Some(row), Some(_)) = (
+        &model.interface.contact,
+        &model.interface.row,
+        state.contact.as_ref(),
+    ) else {
         return;
     };
     for &n in row.minus.iter().chain(row.plus.iter()) {
         let n = n as usize;
-        ws.x[n] = model.x0[n] + state.u[n];
+        ws.x[n] = model.bulk.x0[n] + state.u[n];
     }
-    if model.friction_failed_only {
+    if model.interface.friction_failed_only {
         failed_faces_only(row, &state.facets, &mut ws.frictionless);
     }
 }
@@ -30,10 +34,10 @@ pub(crate) fn detect(
     frictionless: &[bool],
     f_con: &mut [Vector2<f64>],
 ) -> Option<ContactSummary> {
-    let (Some(params), Some(cp)) = (&model.contact, cp) else {
+    let (Some(params), Some(cp)) = (&model.interface.contact, cp) else {
         return None;
     };
-    model.iface.as_ref()?;
+    model.interface.row.as_ref()?;
     Some(contact::resolve(
         params,
         &mut cp.surface,
@@ -49,7 +53,7 @@ pub(crate) fn detect(
 /// Adds the contact forces of [`detect`] into `ws.f`, with the contact work
 /// W_con += Σ ⟨f_con⟩·(u_{n+1} − u_n) and the friction dissipation.
 pub(crate) fn apply(model: &Model, state: &mut State, ws: &mut Workspace, summary: Option<ContactSummary>) {
-    let (Some(summary), Some(row), Some(cp)) = (summary, &model.iface, state.contact.as_mut()) else {
+    let (Some(summary), Some(row), Some(cp)) = (summary, &model.interface.row, state.contact.as_mut()) else {
         return;
     };
     state.energy.friction += summary.friction_dissipation;

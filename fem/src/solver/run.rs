@@ -54,10 +54,10 @@ pub fn run_with_fields(
             crate::scene::ModelKind::Standard => "standard",
         }
         .to_string(),
-        lateral_contraction: model.lateral_contraction,
+        lateral_contraction: model.boundary.lateral_contraction,
         mode_ii_uy: scene.fem.mode_ii_uy,
         damping: scene.fem.damping.describe(),
-        boundary_parts: model.boundary_parts.names.clone(),
+        boundary_parts: model.boundary.parts.names.clone(),
         ..RunOutput::default()
     };
     Recorder { out: &mut out }.observe(&model, &state, &ws);
@@ -102,7 +102,7 @@ pub fn run_with_fields(
             });
         }
         if let Some(Err(b)) = failed {
-            let x = model.x0[b.node];
+            let x = model.bulk.x0[b.node];
             let v = state.v[b.node];
             finish(&model, &state, &ws, &mut out, &mut snapshots);
             return Err(RunError::Unstable {

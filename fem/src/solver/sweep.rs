@@ -35,7 +35,7 @@ pub(crate) fn forces_and_advance(
     let BulkMesh::Grid {
         grid,
         stiffness: Stiffness::Shared(shared),
-    } = &model.mesh
+    } = &model.bulk.mesh
     else {
         return None;
     };
@@ -62,8 +62,8 @@ pub(crate) fn forces_and_advance(
     let ctx = Band {
         grid,
         stencil,
-        deferred: &model.deferred,
-        mass: &model.mass,
+        deferred: &model.bulk.deferred,
+        mass: &model.bulk.mass,
         dt,
         w,
         layers,
