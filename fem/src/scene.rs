@@ -339,6 +339,18 @@ fn validate(raw: RawScene) -> Result<Scene, SceneError> {
         time_step: 0.0,
         raw: kept,
     };
+    cross_checks(&mut scene, duration, &mut errors);
+    if errors.is_empty() {
+        Ok(scene)
+    } else {
+        Err(collected(errors))
+    }
+}
+
+/// The checks across sections, once each section is valid: zones need an `[interface]`, a penalty
+/// needs ε_n > 0, a requested Δt [s] must be stable (else the step is α/α_max of the limit), and
+/// ParaView's files over the `duration` [s] must stay within their limit.
+fn cross_checks(scene: &mut Scene, duration: f64, errors: &mut Vec<SceneError>) {
     if !scene.fem.interface_zones.is_empty() && scene.interface.is_none() {
         errors.push(checks::inconsistent(
             "fem.interface_zones",
@@ -370,15 +382,7 @@ fn validate(raw: RawScene) -> Result<Scene, SceneError> {
         } else {
             1
         };
-        keep(
-            &mut errors,
-            paraview::file_count(p, duration, scene.time_step, pieces),
-        );
-    }
-    if errors.is_empty() {
-        Ok(scene)
-    } else {
-        Err(collected(errors))
+        keep(errors, paraview::file_count(p, duration, scene.time_step, pieces));
     }
 }
 

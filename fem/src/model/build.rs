@@ -170,7 +170,6 @@ pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State,
         .iter()
         .map(|p| nearest_node(&x0, Vector2::new(p[0], p[1])) as u32)
         .collect();
-    let (laws, facet_law) = facet_laws(scene, &iface);
     let mut model = Model {
         bulk: Bulk {
             mesh,
@@ -180,32 +179,7 @@ pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State,
             deferred,
             x0,
         },
-        interface: Interface {
-            facet_detect: facet_law
-                .iter()
-                .map(|&k| match f.contact_surface {
-                    ContactSurface::All => true,
-                    ContactSurface::Zones => k > 0,
-                })
-                .collect(),
-            laws,
-            facet_law,
-            closing: match f.model {
-                ModelKind::Hybrid => ClosingTreatment::Hybrid,
-                ModelKind::Standard => ClosingTreatment::Standard { eps_n: f.eps_n },
-            },
-            insertion_rule: f.insertion_rule,
-            contact: scene.has_contact().then_some(ContactParams {
-                eps_n: f.eps_n,
-                eps_t: f.eps_t,
-                friction_coeff: scene.friction_coeff,
-                max_gap: f.max_gap,
-                projection_tolerance: f.projection_tolerance,
-            }),
-            friction_failed_only: scene.contact_friction == crate::scene::ContactFriction::FailedOnly,
-            row: iface,
-            facet_faces: Vec::new(),
-        },
+        interface: interface(scene, iface),
         boundary: Boundary {
             ramps: bd.ramps,
             prescribed: bd.prescribed,
@@ -236,6 +210,39 @@ pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State,
     let state = initial_state(&model);
     let ws = workspace(&model);
     Ok((model, state, ws))
+}
+
+/// The interface room: the row, its laws per facet, how closed elements resist, the insertion
+/// rule and the contact parameters (its facets' stress sampling is added once the bulk is built).
+fn interface(scene: &Scene, row: Option<InterfaceRow>) -> Interface {
+    let f = &scene.fem;
+    let (laws, facet_law) = facet_laws(scene, &row);
+    Interface {
+        facet_detect: facet_law
+            .iter()
+            .map(|&k| match f.contact_surface {
+                ContactSurface::All => true,
+                ContactSurface::Zones => k > 0,
+            })
+            .collect(),
+        laws,
+        facet_law,
+        closing: match f.model {
+            ModelKind::Hybrid => ClosingTreatment::Hybrid,
+            ModelKind::Standard => ClosingTreatment::Standard { eps_n: f.eps_n },
+        },
+        insertion_rule: f.insertion_rule,
+        contact: scene.has_contact().then_some(ContactParams {
+            eps_n: f.eps_n,
+            eps_t: f.eps_t,
+            friction_coeff: scene.friction_coeff,
+            max_gap: f.max_gap,
+            projection_tolerance: f.projection_tolerance,
+        }),
+        friction_failed_only: scene.contact_friction == crate::scene::ContactFriction::FailedOnly,
+        row,
+        facet_faces: Vec::new(),
+    }
 }
 
 /// How each interface facet samples the stress of its (+, −) elements (insertion).

@@ -1,10 +1,13 @@
 //! Side-wise boundary conditions of `[fem.boundary]`: per side, curve or point and component, an
 //! imposed displacement [m], traction [Pa] (sides and curves) or force [N/m] (points), and on a
-//! side or curve a pressure [Pa] along the outward normal, each through the ramp of eq. (B.1).
+//! side or curve a pressure [Pa] along the outward normal, each through the ramp of eq. (B.1); and,
+//! on a Gmsh mesh, the checks that each condition names a part of the right kind.
 
 use super::checks::{inconsistent, option, ramp};
+use super::mesh::MeshSpec;
+use super::problem::Crack;
 use super::problem::Ramp;
-use super::raw::{RawBoundary, RawBoundaryComponent, RawRamp, RawSide};
+use super::raw::{RawBoundary, RawBoundaryComponent, RawFem, RawRamp, RawSide};
 use crate::error::SceneError;
 
 /// Kind of a boundary condition component.
@@ -141,4 +144,88 @@ pub(crate) fn boundary(b: &RawBoundary, duration: f64) -> Result<BoundarySpec, S
         .map(|n| side(n, &b[n], duration))
         .collect::<Result<_, _>>()?;
     Ok(BoundarySpec { curves })
+}
+
+/// With a mesh: the Westergaard field needs a straight pre-crack on y = 0, and each side of
+/// `[fem.boundary]` applies to the physical curve or point of the same name, a pressure to a curve
+/// of the outer boundary only ([`kinds_fit_parts`] checks the components' kinds).
+pub(super) fn mesh_boundary(f: &RawFem, crack: Option<&Crack>, m: &MeshSpec) -> Result<(), SceneError> {
+    let p = &m.prepared;
+    match &f.boundary {
+        None if !m.materials.is_empty() => {
+            return Err(inconsistent(
+                "fem.boundary",
+                "missing: the Westergaard boundary field is the field of one material everywhere, and \
+                 fem.mesh.materials gives several; give [fem.boundary]",
+            ));
+        }
+        None => {
+            let a = crack.map_or(0.0, |c| c.half_length);
+            // 1e-9 a: a straight crack drawn on y = 0 is exactly there; anything else is not the
+            // crack of the analytic field
+            if p.pre_crack_max_abs_y() > 1e-9 * a {
+                return Err(inconsistent(
+                    "fem.boundary",
+                    format!(
+                        "missing: the Westergaard boundary field needs a straight pre-crack on y = 0, and the \
+                         mesh's pre-crack reaches |y| = {:.3e} m; give [fem.boundary]",
+                        p.pre_crack_max_abs_y()
+                    ),
+                ));
+            }
+        }
+        Some(b) => {
+            for (name, side) in b {
+                let roles = &m.roles;
+                if let Some(role) = [("interface", &roles.interface), ("pre_crack", &roles.pre_crack)]
+                    .into_iter()
+                    .find_map(|(role, names)| names.contains(name).then_some(role))
+                {
+                    return Err(inconsistent(
+                        format!("fem.boundary.{name}"),
+                        format!(
+                            "\"{name}\" is a crack curve (fem.mesh.{role}): its nodes are split in two, and a \
+                             condition would hold one face only; put it on a curve of the outer boundary"
+                        ),
+                    ));
+                }
+                let part = p
+                    .boundary_nodes(name)
+                    .map_err(|e| inconsistent(format!("fem.boundary.{name}"), e.to_string()))?;
+                if part.point && side.pressure.is_some() {
+                    return Err(inconsistent(
+                        format!("fem.boundary.{name}.pressure"),
+                        format!("\"{name}\" is a physical point; a pressure acts along a curve"),
+                    ));
+                }
+                if side.pressure.is_some() {
+                    p.mesh
+                        .pressure_weights(name)
+                        .map_err(|e| inconsistent(format!("fem.boundary.{name}.pressure"), e.to_string()))?;
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// On a mesh, each condition fits its kind of part: a traction along a curve, a force on a point
+/// (a pressure on a point is refused by [`mesh_boundary`], which also checks that the parts exist).
+pub(super) fn kinds_fit_parts(b: &BoundarySpec, m: &MeshSpec) -> Result<(), SceneError> {
+    for c in &b.curves {
+        let point = m.prepared.boundary_nodes(&c.name).is_ok_and(|part| part.point);
+        for (k, comp) in ["x", "y"].iter().zip(&c.components) {
+            let why = match (point, comp.map(|comp| comp.kind)) {
+                (true, Some(BoundaryKind::Traction)) => {
+                    "a traction [Pa] acts along a curve; on a physical point give \"force\" [N/m]"
+                }
+                (false, Some(BoundaryKind::Force)) => {
+                    "a force [N/m] acts on a physical point; along a curve give \"traction\" [Pa]"
+                }
+                _ => continue,
+            };
+            return Err(inconsistent(format!("fem.boundary.{}.{k}.kind", c.name), why));
+        }
+    }
+    Ok(())
 }

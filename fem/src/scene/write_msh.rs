@@ -34,6 +34,17 @@ pub fn grid_as_msh(scene: &Scene) -> Option<String> {
             .as_ref()
             .map(|_| (jc, &row_map as &dyn Fn(f64) -> f64)),
     });
+    let curves = curves(scene, &grid, [nx, ny], jc);
+    Some(msh_text(&grid, &curves, f.x_range, f.y_range))
+}
+
+/// A physical curve: its name and its line elements as (first, second) node tags.
+type Curve<'a> = (&'a str, Vec<(usize, usize)>);
+
+/// The physical curves of the grid of nx × ny elements whose row jc is the interface row: the
+/// crack and interface facets of that row, and the four sides counter-clockwise; empty ones left
+/// out.
+fn curves<'a>(scene: &Scene, grid: &Grid, [nx, ny]: [usize; 2], jc: usize) -> Vec<Curve<'a>> {
     let w = nx + 1;
     let tag = |l: usize, i: usize| l * w + i + 1;
     let crack = scene.crack.map(|c| (c.center_x, c.half_length));
@@ -49,7 +60,7 @@ pub fn grid_as_msh(scene: &Scene) -> Option<String> {
             iface_lines.push(pair);
         }
     }
-    let curves: Vec<(&str, Vec<(usize, usize)>)> = vec![
+    let curves: Vec<Curve> = vec![
         ("crack", crack_lines),
         ("interface", iface_lines),
         ("bottom", (0..nx).map(|i| (tag(0, i), tag(0, i + 1))).collect()),
@@ -63,9 +74,12 @@ pub fn grid_as_msh(scene: &Scene) -> Option<String> {
             (0..ny).rev().map(|l| (tag(l + 1, 0), tag(l, 0))).collect(),
         ),
     ];
-    let curves: Vec<_> = curves.into_iter().filter(|(_, l)| !l.is_empty()).collect();
-    let [x0, x1] = f.x_range;
-    let [y0, y1] = f.y_range;
+    curves.into_iter().filter(|(_, l)| !l.is_empty()).collect()
+}
+
+/// The MSH 4.1 text: the physical names, one entity per curve and the surface over the box
+/// `x_range` × `y_range` [m], the nodes, the Q4 elements of `body`, the curves' line elements.
+fn msh_text(grid: &Grid, curves: &[Curve], [x0, x1]: [f64; 2], [y0, y1]: [f64; 2]) -> String {
     let mut s = String::new();
     let _ = write!(
         s,
@@ -115,5 +129,5 @@ pub fn grid_as_msh(scene: &Scene) -> Option<String> {
         }
     }
     s += "$EndElements\n";
-    Some(s)
+    s
 }

@@ -2,6 +2,7 @@
 //! values, bulk + cohesive + contact + external forces, tied-pair accelerations, corrector,
 //! insertion, 0.99 velocity scaling, energy bookkeeping. No I/O, no allocation.
 
+use crate::contact::ContactSummary;
 use crate::mesh::interfaces::{InterfaceRow, NO_JUNCTION};
 use crate::mesh::structured::LayerSide;
 use crate::model::state::{Model, State, Workspace};
@@ -45,29 +46,7 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
     // (swept, whether f holds the bulk forces, contact): without a one-pass sweep (a mapped or a
     // Gmsh mesh) the bulk forces themselves run beside the detection
     let (swept, forces_done, contact) = if overlap {
-        let (u, v, f, sweep) = (&mut state.u, &mut state.v, &mut ws.f, &mut ws.sweep);
-        let (cp, tied, x, frictionless, f_con) = (
-            state.contact.as_mut(),
-            &state.tied_twin,
-            &ws.x,
-            &ws.frictionless,
-            &mut ws.f_con,
-        );
-        let (swept, (contact, detect_s)) = rayon::join(
-            || {
-                let swept = super::sweep::forces_and_advance(model, u, v, f, sweep, dt);
-                if swept.is_none() {
-                    model.internal_forces(u, f);
-                }
-                swept
-            },
-            || {
-                let clock = std::time::Instant::now();
-                let c = contact_step::detect(model, cp, tied, x, frictionless, f_con);
-                (c, clock.elapsed().as_secs_f64())
-            },
-        );
-        ws.clock.overlapped(Phase::Contact, detect_s);
+        let (swept, contact) = forces_beside_detection(model, state, ws, dt);
         (swept, true, Some(contact))
     } else {
         (None, false, None)
@@ -135,6 +114,41 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
         return Err(Blowup { node });
     }
     Ok(())
+}
+
+/// The bulk forces of an unsampled step (with the one-pass sweep of the corrector where the grid
+/// allows it, else the plain internal forces) on one thread, and the contact detection on the
+/// other: (the sweep's max v² [m²/s²] if it ran, the contact summary).
+fn forces_beside_detection(
+    model: &Model,
+    state: &mut State,
+    ws: &mut Workspace,
+    dt: f64,
+) -> (Option<f64>, Option<ContactSummary>) {
+    let (u, v, f, sweep) = (&mut state.u, &mut state.v, &mut ws.f, &mut ws.sweep);
+    let (cp, tied, x, frictionless, f_con) = (
+        state.contact.as_mut(),
+        &state.tied_twin,
+        &ws.x,
+        &ws.frictionless,
+        &mut ws.f_con,
+    );
+    let (swept, (contact, detect_s)) = rayon::join(
+        || {
+            let swept = super::sweep::forces_and_advance(model, u, v, f, sweep, dt);
+            if swept.is_none() {
+                model.internal_forces(u, f);
+            }
+            swept
+        },
+        || {
+            let clock = std::time::Instant::now();
+            let c = contact_step::detect(model, cp, tied, x, frictionless, f_con);
+            (c, clock.elapsed().as_secs_f64())
+        },
+    );
+    ws.clock.overlapped(Phase::Contact, detect_s);
+    (swept, contact)
 }
 
 fn save_row_displacements(model: &Model, state: &State, ws: &mut Workspace) {
