@@ -1,7 +1,7 @@
 //! Interface chains: the line elements of physical curves ordered into simple chains, with the
 //! bulk element on either side of every segment ([`interface_chains`], [`Chain`]).
 
-use super::{Face, MeshError, PhysicalGroup, UnstructuredMesh, edge_start, key};
+use super::{EdgeMap, Face, MeshError, UnstructuredMesh, edge_start, key};
 use std::collections::{BTreeMap, HashMap, HashSet};
 
 /// One segment of a chain, between `nodes[i]` and `nodes[i + 1]` (cyclically if closed).
@@ -74,27 +74,58 @@ pub fn interface_chains(mesh: &UnstructuredMesh, group: &str) -> Result<Vec<Chai
 /// pre-crack and the cohesive interface that continues it form one chain); errors name the
 /// groups joined by " + ".
 pub fn interface_chains_of(mesh: &UnstructuredMesh, groups: &[&str]) -> Result<Vec<Chain>, MeshError> {
+    let lines = joined_lines(mesh, groups)?;
+    let group = groups.join(" + ");
+    let group = group.as_str();
+    let edges = mesh.edge_map();
+    check_lines(mesh, &edges, group, &lines)?;
+    let walk = Walk {
+        mesh,
+        at: lines_at(mesh, &lines),
+    };
+    check_boundary_ends(mesh, &edges, &walk.at, group)?;
+
+    let mut done: HashSet<usize> = HashSet::new();
+    let mut chains = Vec::new();
+    for &first in &lines {
+        if !done.insert(first) {
+            continue;
+        }
+        let (nodes, lines, closed) = walk.chain_from(first, &mut done);
+        let segments = segments_of(mesh, &edges, &nodes, &lines);
+        chains.push(Chain {
+            nodes,
+            closed,
+            segments,
+        });
+    }
+    Ok(chains)
+}
+
+/// The line elements (indices into [`UnstructuredMesh::lines`]) of the physical curves `groups`,
+/// ascending; each group must be a curve.
+fn joined_lines(mesh: &UnstructuredMesh, groups: &[&str]) -> Result<Vec<usize>, MeshError> {
     let mut lines = Vec::new();
     for &name in groups {
         let g = mesh.group_of_dim(name, 1, "an interface is a physical curve (dimension 1)")?;
         lines.extend(g.elements.iter().copied());
     }
     lines.sort_unstable();
-    let group = groups.join(" + ");
-    let group = group.as_str();
-    let g = PhysicalGroup {
-        dim: 1,
-        tag: 0,
-        elements: lines,
-        nodes: Vec::new(),
-    };
-    let edges = mesh.edge_map();
+    Ok(lines)
+}
+
+/// Checks that each line of the interface `group` is an interior edge (a bulk element on either
+/// side), and the only line on its edge.
+fn check_lines(
+    mesh: &UnstructuredMesh,
+    edges: &EdgeMap,
+    group: &str,
+    lines: &[usize],
+) -> Result<(), MeshError> {
     let line_tag = |l: usize| mesh.lines[l].tag;
     let ntag = |n: usize| mesh.node_tags[n];
-
-    // Each line: an interior edge, once.
     let mut seen: HashMap<(usize, usize), usize> = HashMap::new();
-    for &l in &g.elements {
+    for &l in lines {
         let [a, b] = mesh.lines[l].nodes;
         let faces = edges
             .get(&key(a, b))
@@ -121,15 +152,29 @@ pub fn interface_chains_of(mesh: &UnstructuredMesh, groups: &[&str]) -> Result<V
         }
         seen.insert(key(a, b), l);
     }
+    Ok(())
+}
 
-    // A node of three or more lines is a junction: the chains end there.
+/// The lines at each node of the interface, in the order of `lines`. A node of three or more
+/// lines is a junction: the chains end there.
+fn lines_at(mesh: &UnstructuredMesh, lines: &[usize]) -> BTreeMap<usize, Vec<usize>> {
     let mut at: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
-    for &l in &g.elements {
+    for &l in lines {
         for n in mesh.lines[l].nodes {
             at.entry(n).or_default().push(l);
         }
     }
-    // a node of the outer boundary (on an edge with one element) may end one line only
+    at
+}
+
+/// Checks that a node of the outer boundary (on an edge with one element) ends one line of the
+/// interface `group` only; the error names the node of smallest index that ends more.
+fn check_boundary_ends(
+    mesh: &UnstructuredMesh,
+    edges: &EdgeMap,
+    at: &BTreeMap<usize, Vec<usize>>,
+    group: &str,
+) -> Result<(), MeshError> {
     let outer: HashSet<usize> = edges
         .iter()
         .filter(|(_, faces)| faces.len() == 1)
@@ -139,82 +184,108 @@ pub fn interface_chains_of(mesh: &UnstructuredMesh, groups: &[&str]) -> Result<V
         let p = mesh.positions[n];
         return Err(MeshError::JunctionOnBoundary {
             group: group.to_string(),
-            node: ntag(n),
+            node: mesh.node_tags[n],
             lines: ls.len(),
             x: p.x,
             y: p.y,
         });
     }
-    let other_line = |n: usize, l: usize| {
-        let ls = &at[&n];
+    Ok(())
+}
+
+/// The lines of an interface around each of its nodes, to walk along its chains.
+struct Walk<'a> {
+    /// The mesh.
+    mesh: &'a UnstructuredMesh,
+    /// The interface's lines at each of its nodes ([`lines_at`]).
+    at: BTreeMap<usize, Vec<usize>>,
+}
+
+impl Walk<'_> {
+    /// The line that continues line `l` through node `n`: none at a chain end or a junction.
+    fn other_line(&self, n: usize, l: usize) -> Option<usize> {
+        let ls = &self.at[&n];
         if ls.len() > 2 {
             return None;
         }
         ls.iter().copied().find(|&m| m != l)
-    };
-    let other_end = |l: usize, n: usize| {
-        let [a, b] = mesh.lines[l].nodes;
-        if a == n { b } else { a }
-    };
+    }
 
-    let mut done: HashSet<usize> = HashSet::new();
-    let mut chains = Vec::new();
-    for &first in &g.elements {
-        if !done.insert(first) {
-            continue;
-        }
-        let [a, b] = mesh.lines[first].nodes;
-        let (mut nodes, mut lines) = (vec![a, b], vec![first]);
-        let mut closed = false;
-        let (mut cur, mut last) = (b, first);
-        while let Some(l) = other_line(cur, last) {
-            done.insert(l);
-            lines.push(l);
-            let n = other_end(l, cur);
-            // back at the start: a loop, unless the start is a junction where the chain ends
-            if n == a && at[&a].len() <= 2 {
-                closed = true;
-                break;
-            }
-            nodes.push(n);
-            (cur, last) = (n, l);
-        }
+    /// The end of line `l` other than node `n`.
+    fn other_end(&self, l: usize, n: usize) -> usize {
+        let [a, b] = self.mesh.lines[l].nodes;
+        if a == n { b } else { a }
+    }
+
+    /// The chain of line `first`: its nodes and lines in the direction of `first`, and whether
+    /// it is closed. Every line reached is added to `done`.
+    fn chain_from(&self, first: usize, done: &mut HashSet<usize>) -> (Vec<usize>, Vec<usize>, bool) {
+        let (mut nodes, mut lines, closed) = self.forward(first, done);
         if !closed {
-            let (mut back_nodes, mut back_lines) = (Vec::new(), Vec::new());
-            let (mut cur, mut last) = (a, first);
-            while let Some(l) = other_line(cur, last) {
-                done.insert(l);
-                back_lines.push(l);
-                let n = other_end(l, cur);
-                back_nodes.push(n);
-                (cur, last) = (n, l);
-            }
-            back_nodes.reverse();
-            back_lines.reverse();
+            let (mut back_nodes, mut back_lines) = self.backward(first, done);
             back_nodes.extend(nodes);
             back_lines.extend(lines);
             (nodes, lines) = (back_nodes, back_lines);
         }
-        let count = nodes.len();
-        let segments = lines
-            .iter()
-            .enumerate()
-            .map(|(i, &line)| {
-                let p = nodes[i];
-                let faces = &edges[&key(p, nodes[(i + 1) % count])];
-                let (plus, minus) = if edge_start(mesh, faces[0]) == p {
-                    (faces[0], faces[1])
-                } else {
-                    (faces[1], faces[0])
-                };
-                Segment { line, plus, minus }
-            })
-            .collect();
-        chains.push(Chain {
-            nodes,
-            closed,
-            segments,
-        });
+        (nodes, lines, closed)
     }
-    Ok(chains)
+
+    /// From line `first` forward through its end node: the nodes (both of `first`'s, then one
+    /// per line), the lines, and whether the walk came back to the start (a loop, unless the
+    /// start is a junction where the chain ends).
+    fn forward(&self, first: usize, done: &mut HashSet<usize>) -> (Vec<usize>, Vec<usize>, bool) {
+        let [a, b] = self.mesh.lines[first].nodes;
+        let (mut nodes, mut lines) = (vec![a, b], vec![first]);
+        let (mut cur, mut last) = (b, first);
+        while let Some(l) = self.other_line(cur, last) {
+            done.insert(l);
+            lines.push(l);
+            let n = self.other_end(l, cur);
+            // back at the start: a loop, unless the start is a junction where the chain ends
+            if n == a && self.at[&a].len() <= 2 {
+                return (nodes, lines, true);
+            }
+            nodes.push(n);
+            (cur, last) = (n, l);
+        }
+        (nodes, lines, false)
+    }
+
+    /// From line `first` backward through its start node: the nodes and lines before `first`, in
+    /// chain order.
+    fn backward(&self, first: usize, done: &mut HashSet<usize>) -> (Vec<usize>, Vec<usize>) {
+        let a = self.mesh.lines[first].nodes[0];
+        let (mut back_nodes, mut back_lines) = (Vec::new(), Vec::new());
+        let (mut cur, mut last) = (a, first);
+        while let Some(l) = self.other_line(cur, last) {
+            done.insert(l);
+            back_lines.push(l);
+            let n = self.other_end(l, cur);
+            back_nodes.push(n);
+            (cur, last) = (n, l);
+        }
+        back_nodes.reverse();
+        back_lines.reverse();
+        (back_nodes, back_lines)
+    }
+}
+
+/// The segments of the chain of `nodes` and `lines` (segment `i` on line `lines[i]`, from
+/// `nodes[i]` to the next node, cyclically), each with the element on its left as + face.
+fn segments_of(mesh: &UnstructuredMesh, edges: &EdgeMap, nodes: &[usize], lines: &[usize]) -> Vec<Segment> {
+    let count = nodes.len();
+    lines
+        .iter()
+        .enumerate()
+        .map(|(i, &line)| {
+            let p = nodes[i];
+            let faces = &edges[&key(p, nodes[(i + 1) % count])];
+            let (plus, minus) = if edge_start(mesh, faces[0]) == p {
+                (faces[0], faces[1])
+            } else {
+                (faces[1], faces[0])
+            };
+            Segment { line, plus, minus }
+        })
+        .collect()
 }
