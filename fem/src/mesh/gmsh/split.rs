@@ -51,6 +51,58 @@ pub const MAX_JUNCTION_SECTORS: usize = 8;
 /// [`SplitMesh::junctions`]. Chains must not share other nodes.
 pub fn split_interface(mesh: &UnstructuredMesh, chains: &[Chain]) -> Result<SplitMesh, MeshError> {
     let edges = mesh.edge_map();
+    let (cut, chain_lines) = cut_edges(chains);
+    let plan = plan_split(mesh, &edges, &cut, chains)?;
+
+    let mut out = mesh.clone();
+    let mut next_tag = mesh.node_tags.iter().copied().max().unwrap_or(0);
+    let (twins, twin_of) = make_twins(
+        mesh,
+        &mut out,
+        (&edges, &chain_lines),
+        &plan.twinned,
+        &mut next_tag,
+    );
+    let (junctions, copy_in) = split_junctions(
+        mesh,
+        &mut out,
+        (&edges, &chain_lines),
+        &plan.sectors,
+        &mut next_tag,
+    )?;
+    let columns = chains
+        .iter()
+        .map(|c| chain_column(c, &plan.sectors, &twin_of, &copy_in))
+        .collect();
+    out.refresh_group_nodes();
+    Ok(SplitMesh {
+        mesh: out,
+        twins,
+        tips: plan.tips,
+        junctions,
+        columns,
+    })
+}
+
+/// The sectors of each junction, by node: the fans of its elements between consecutive cut
+/// edges ([`junction_sectors`]).
+type Sectors = BTreeMap<usize, Vec<BTreeSet<usize>>>;
+
+/// Per (junction, element of one of its sectors): the node of that sector.
+type CopyIn = HashMap<(usize, usize), usize>;
+
+/// What the split does, decided on the unsplit mesh.
+struct SplitPlan {
+    /// Each node to twin with its + fan (the elements that get the twin), in chain order.
+    twinned: Vec<(usize, BTreeSet<usize>)>,
+    /// Chain nodes left single (crack tips), in chain order.
+    tips: Vec<usize>,
+    /// The sectors of each junction.
+    sectors: Sectors,
+}
+
+/// The edges the chains cut (by (smaller, larger) node pair) and the chains' own line elements.
+fn cut_edges(chains: &[Chain]) -> (HashSet<(usize, usize)>, HashSet<usize>) {
     let mut cut: HashSet<(usize, usize)> = HashSet::new();
     let mut chain_lines: HashSet<usize> = HashSet::new();
     for c in chains {
@@ -60,70 +112,104 @@ pub fn split_interface(mesh: &UnstructuredMesh, chains: &[Chain]) -> Result<Spli
             chain_lines.insert(s.line);
         }
     }
+    (cut, chain_lines)
+}
+
+/// The + fan of each chain node on the unsplit mesh, which decides whether it is twinned or a
+/// crack tip, and the sectors of each junction (a node of three or more cut edges). A node that
+/// two chains share other than at a junction is an error.
+fn plan_split(
+    mesh: &UnstructuredMesh,
+    edges: &EdgeMap,
+    cut: &HashSet<(usize, usize)>,
+    chains: &[Chain],
+) -> Result<SplitPlan, MeshError> {
     let mut cut_at: HashMap<usize, usize> = HashMap::new();
-    for &(a, b) in &cut {
+    for &(a, b) in cut {
         *cut_at.entry(a).or_default() += 1;
         *cut_at.entry(b).or_default() += 1;
     }
     let is_junction = |n: usize| cut_at.get(&n).is_some_and(|&k| k >= 3);
 
-    // + fan of each chain node, on the unsplit mesh; the sectors of each junction.
     let mut seen: HashSet<usize> = HashSet::new();
-    let mut plan: Vec<(usize, BTreeSet<usize>)> = Vec::new();
-    let mut tips = Vec::new();
-    let mut sectors: BTreeMap<usize, Vec<BTreeSet<usize>>> = BTreeMap::new();
+    let mut plan = SplitPlan {
+        twinned: Vec::new(),
+        tips: Vec::new(),
+        sectors: BTreeMap::new(),
+    };
     for c in chains {
-        let m = c.segments.len();
         for (i, &node) in c.nodes.iter().enumerate() {
             if is_junction(node) {
-                sectors
+                plan.sectors
                     .entry(node)
-                    .or_insert_with(|| junction_sectors(mesh, &edges, &cut, node));
+                    .or_insert_with(|| junction_sectors(mesh, edges, cut, node));
                 continue;
             }
             if !seen.insert(node) {
                 return Err(MeshError::ChainsMeet(mesh.node_tags[node]));
             }
-            // Segments touching this node: i − 1 and i (cyclically when closed).
-            let touching: Vec<&Segment> = if c.closed {
-                vec![&c.segments[(i + m - 1) % m], &c.segments[i]]
-            } else {
-                c.segments[i.saturating_sub(1)..(i + 1).min(m)].iter().collect()
-            };
+            let touching = touching_segments(c, i);
             let seeds = touching.iter().map(|s| s.plus.element).collect();
-            let fan = fan_around(mesh, &edges, &cut, node, seeds);
+            let fan = fan_around(mesh, edges, cut, node, seeds);
             if touching.iter().any(|s| fan.contains(&s.minus.element)) {
-                tips.push(node);
+                plan.tips.push(node);
             } else {
-                plan.push((node, fan));
+                plan.twinned.push((node, fan));
             }
         }
     }
+    Ok(plan)
+}
 
-    let mut out = mesh.clone();
-    let mut next_tag = mesh.node_tags.iter().copied().max().unwrap_or(0);
-    let mut twins = Vec::with_capacity(plan.len());
+/// The segments of chain `c` touching its node `i`: segments i − 1 and i (cyclically when
+/// closed; one of them only at the end of an open chain).
+fn touching_segments(c: &Chain, i: usize) -> Vec<&Segment> {
+    let m = c.segments.len();
+    if c.closed {
+        vec![&c.segments[(i + m - 1) % m], &c.segments[i]]
+    } else {
+        c.segments[i.saturating_sub(1)..(i + 1).min(m)].iter().collect()
+    }
+}
+
+/// Appends to `out` the twin of each node of `twinned` (tags counting up from `next_tag`) and
+/// gives it to the node's + fan; returns the twin pairs and each twinned node's twin.
+fn make_twins(
+    mesh: &UnstructuredMesh,
+    out: &mut UnstructuredMesh,
+    (edges, chain_lines): (&EdgeMap, &HashSet<usize>),
+    twinned: &[(usize, BTreeSet<usize>)],
+    next_tag: &mut u64,
+) -> (Vec<TwinPair>, HashMap<usize, usize>) {
+    let mut twins = Vec::with_capacity(twinned.len());
     let mut twin_of: HashMap<usize, usize> = HashMap::new();
-    for (node, fan) in &plan {
+    for (node, fan) in twinned {
         let twin = out.positions.len();
-        next_tag += 1;
-        move_fan(
-            mesh,
-            &mut out,
-            (&edges, &chain_lines),
-            (*node, twin, next_tag),
-            fan,
-        );
+        *next_tag += 1;
+        move_fan(mesh, out, (edges, chain_lines), (*node, twin, *next_tag), fan);
         twin_of.insert(*node, twin);
         twins.push(TwinPair {
             minus: *node,
             plus: twin,
         });
     }
-    // per junction, the node of each sector; per element at a junction, its sector's node
+    (twins, twin_of)
+}
+
+/// Gives each sector of each junction but the first a new node of `out` (tags counting up from
+/// `next_tag`). Returns, per junction, its copies (see [`SplitMesh::junctions`]), and, per
+/// (junction, element of a sector), the node of that sector. A junction of more than
+/// [`MAX_JUNCTION_SECTORS`] sectors is an error.
+fn split_junctions(
+    mesh: &UnstructuredMesh,
+    out: &mut UnstructuredMesh,
+    (edges, chain_lines): (&EdgeMap, &HashSet<usize>),
+    sectors: &Sectors,
+    next_tag: &mut u64,
+) -> Result<(Vec<Vec<usize>>, CopyIn), MeshError> {
     let mut junctions = Vec::with_capacity(sectors.len());
-    let mut copy_in: HashMap<(usize, usize), usize> = HashMap::new();
-    for (&node, fans) in &sectors {
+    let mut copy_in: CopyIn = HashMap::new();
+    for (&node, fans) in sectors {
         if fans.len() > MAX_JUNCTION_SECTORS {
             return Err(MeshError::JunctionTooWide {
                 node: mesh.node_tags[node],
@@ -134,14 +220,8 @@ pub fn split_interface(mesh: &UnstructuredMesh, chains: &[Chain]) -> Result<Spli
         for (k, fan) in fans.iter().enumerate() {
             let copy = if k == 0 { node } else { out.positions.len() };
             if k > 0 {
-                next_tag += 1;
-                move_fan(
-                    mesh,
-                    &mut out,
-                    (&edges, &chain_lines),
-                    (node, copy, next_tag),
-                    fan,
-                );
+                *next_tag += 1;
+                move_fan(mesh, out, (edges, chain_lines), (node, copy, *next_tag), fan);
                 copies.push(copy);
             }
             for &e in fan {
@@ -150,42 +230,40 @@ pub fn split_interface(mesh: &UnstructuredMesh, chains: &[Chain]) -> Result<Spli
         }
         junctions.push(copies);
     }
-    let columns = chains
+    Ok((junctions, copy_in))
+}
+
+/// The − and + copies of each node of chain `c` (see [`SplitMesh::columns`]), from the twin of
+/// each twinned node and the sector node of each (junction, element).
+fn chain_column(
+    c: &Chain,
+    sectors: &Sectors,
+    twin_of: &HashMap<usize, usize>,
+    copy_in: &CopyIn,
+) -> Vec<[usize; 2]> {
+    let m = c.segments.len();
+    let last = c.nodes.len() - 1;
+    c.nodes
         .iter()
-        .map(|c| {
-            let m = c.segments.len();
-            let last = c.nodes.len() - 1;
-            c.nodes
-                .iter()
-                .enumerate()
-                .map(|(i, &node)| {
-                    if sectors.contains_key(&node) {
-                        // a junction is a chain end: its one segment's two sides
-                        let s = if i == 0 {
-                            &c.segments[0]
-                        } else {
-                            &c.segments[m - 1]
-                        };
-                        debug_assert!(i == 0 || i == last);
-                        [
-                            copy_in[&(node, s.minus.element)],
-                            copy_in[&(node, s.plus.element)],
-                        ]
-                    } else {
-                        [node, twin_of.get(&node).copied().unwrap_or(node)]
-                    }
-                })
-                .collect()
+        .enumerate()
+        .map(|(i, &node)| {
+            if sectors.contains_key(&node) {
+                // a junction is a chain end: its one segment's two sides
+                let s = if i == 0 {
+                    &c.segments[0]
+                } else {
+                    &c.segments[m - 1]
+                };
+                debug_assert!(i == 0 || i == last);
+                [
+                    copy_in[&(node, s.minus.element)],
+                    copy_in[&(node, s.plus.element)],
+                ]
+            } else {
+                [node, twin_of.get(&node).copied().unwrap_or(node)]
+            }
         })
-        .collect();
-    out.refresh_group_nodes();
-    Ok(SplitMesh {
-        mesh: out,
-        twins,
-        tips,
-        junctions,
-        columns,
-    })
+        .collect()
 }
 
 /// The elements around `node` reached from `seeds` without crossing a `cut` edge.
