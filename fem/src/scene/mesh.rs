@@ -70,20 +70,59 @@ pub(crate) fn mesh(
     base_dir: Option<&Path>,
 ) -> Result<Option<(MeshSpec, RawFem)>, SceneError> {
     let Some(m) = &f.mesh else {
-        for (key, missing) in [
-            ("fem.x_range", f.x_range[0].is_nan()),
-            ("fem.y_range", f.y_range[0].is_nan()),
-            ("fem.element_size", f.element_size.is_nan()),
-        ] {
-            if missing {
-                return Err(inconsistent(
-                    key,
-                    "missing: the built-in grid needs fem.x_range, fem.y_range and fem.element_size (or give [fem.mesh])",
-                ));
-            }
-        }
+        check_grid_given(f)?;
         return Ok(None);
     };
+    refuse_grid_keys(f)?;
+    let (file, roles) = roles(m, base_dir)?;
+    let laws = curve_laws(f, m, &roles)?;
+    let surface_materials = surface_materials(m, &roles)?;
+    check_crack_roles(&roles, crack, cohesive)?;
+    let unit = mesh_unit(m)?;
+    let prepared = read_prepared(&file, &roles, unit)?;
+    // the interface's shortest and mean facet (the smallest element without an interface)
+    let (shortest, mean) = prepared
+        .facet_lengths()
+        .unwrap_or((prepared.h_min, prepared.h_min));
+    check_crack_extent(crack, &prepared, mean)?;
+    let (materials, element_material) = element_materials(&prepared, &roles, &surface_materials)?;
+    let min_length = min_lengths(&prepared, &element_material, materials.len());
+    let effective = effective_form(f, &prepared, shortest, mean);
+    Ok(Some((
+        MeshSpec {
+            file,
+            roles,
+            unit,
+            prepared: Arc::new(prepared),
+            laws,
+            materials,
+            element_material,
+            min_length,
+        },
+        effective,
+    )))
+}
+
+/// Without `[fem.mesh]`: the built-in grid needs `fem.x_range`, `fem.y_range` and
+/// `fem.element_size`; the first missing one is reported.
+fn check_grid_given(f: &RawFem) -> Result<(), SceneError> {
+    for (key, missing) in [
+        ("fem.x_range", f.x_range[0].is_nan()),
+        ("fem.y_range", f.y_range[0].is_nan()),
+        ("fem.element_size", f.element_size.is_nan()),
+    ] {
+        if missing {
+            return Err(inconsistent(
+                key,
+                "missing: the built-in grid needs fem.x_range, fem.y_range and fem.element_size (or give [fem.mesh])",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// With `[fem.mesh]`: the first of [`GRID_KEYS`] given is refused (the mesh file is the geometry).
+fn refuse_grid_keys(f: &RawFem) -> Result<(), SceneError> {
     let given = [
         !f.x_range[0].is_nan(),
         !f.y_range[0].is_nan(),
@@ -99,9 +138,12 @@ pub(crate) fn mesh(
             "describes the built-in grid; with [fem.mesh] the mesh file is the geometry",
         ));
     }
-    let (file, roles) = roles(m, base_dir)?;
-    let laws = curve_laws(f, m, &roles)?;
-    let surface_materials = surface_materials(m, &roles)?;
+    Ok(())
+}
+
+/// The interface curves need an `[interface]` section (their cohesive law), and the mesh's
+/// pre-crack curves go with a `[crack]` section.
+fn check_crack_roles(roles: &MeshRoles, crack: Option<&Crack>, cohesive: bool) -> Result<(), SceneError> {
     if !roles.interface.is_empty() && !cohesive {
         return Err(inconsistent(
             "fem.mesh.interface",
@@ -115,6 +157,12 @@ pub(crate) fn mesh(
              other parts of the scene (boundary field, spectral model) read",
         ));
     }
+    Ok(())
+}
+
+/// `fem.mesh.unit`: the length of one unit of the file's coordinates [m] (1 if not given), finite
+/// and > 0.
+fn mesh_unit(m: &RawMesh) -> Result<f64, SceneError> {
     let unit = m.unit.unwrap_or(1.0);
     if !(unit.is_finite() && unit > 0.0) {
         return Err(inconsistent(
@@ -125,39 +173,52 @@ pub(crate) fn mesh(
             ),
         ));
     }
-    let mut mesh = crate::mesh::gmsh::UnstructuredMesh::read(&file)
+    Ok(unit)
+}
+
+/// The mesh `file` read, scaled by `unit` [m] and prepared for its `roles`. A unit that overflows
+/// the coordinates, or shrinks the elements until their areas underflow, is the unit's fault, not
+/// the mesh's (nor the contact distances' derived from h).
+fn read_prepared(file: &Path, roles: &MeshRoles, unit: f64) -> Result<PreparedMesh, SceneError> {
+    let mut mesh = crate::mesh::gmsh::UnstructuredMesh::read(file)
         .map_err(|e| inconsistent("fem.mesh.file", e.to_string()))?;
     mesh.scale(unit);
-    // a unit that overflows the coordinates, or shrinks the elements until their areas underflow,
-    // is the unit's fault, not the mesh's (nor the contact distances' derived from h)
-    let unit_error = |what: String| {
-        inconsistent(
-            "fem.mesh.unit",
-            format!(
-                "{} m per unit {what}: give the length of one unit of the file's coordinates in metres",
-                crate::error::number(unit)
-            ),
-        )
-    };
     if mesh
         .positions
         .iter()
         .any(|p| !(p.x.is_finite() && p.y.is_finite()))
     {
-        return Err(unit_error("makes the coordinates overflow".into()));
+        return Err(unit_error(unit, "makes the coordinates overflow".into()));
     }
-    let prepared = prepare(mesh, &roles)
+    let prepared = prepare(mesh, roles)
         .map_err(|e| inconsistent(format!("fem.mesh.{}", e.role), e.error.to_string()))?;
     if !(prepared.h_min * prepared.h_min).is_normal() {
-        return Err(unit_error(format!(
-            "puts the element areas beyond floating point (the smallest element length comes out as {} m)",
-            crate::error::number(prepared.h_min)
-        )));
+        return Err(unit_error(
+            unit,
+            format!(
+                "puts the element areas beyond floating point (the smallest element length comes out as {} m)",
+                crate::error::number(prepared.h_min)
+            ),
+        ));
     }
-    // the interface's shortest and mean facet (the smallest element without an interface)
-    let (shortest, mean) = prepared
-        .facet_lengths()
-        .unwrap_or((prepared.h_min, prepared.h_min));
+    Ok(prepared)
+}
+
+/// The error on `fem.mesh.unit` when the unit (`unit` [m] per unit of the file) `what` (e.g.
+/// "makes the coordinates overflow").
+fn unit_error(unit: f64, what: String) -> SceneError {
+    inconsistent(
+        "fem.mesh.unit",
+        format!(
+            "{} m per unit {what}: give the length of one unit of the file's coordinates in metres",
+            crate::error::number(unit)
+        ),
+    )
+}
+
+/// The mesh's pre-crack must span the `[crack]`'s extent along the interface, to within a
+/// millionth of the `mean` facet length [m].
+fn check_crack_extent(crack: Option<&Crack>, prepared: &PreparedMesh, mean: f64) -> Result<(), SceneError> {
     if let (Some(c), Some([s0, s1])) = (crack, prepared.pre_crack_extent()) {
         // the mesh's coordinates are printed to 16 digits: a crack that is meant to match does
         // to far better than a millionth of a facet
@@ -172,13 +233,25 @@ pub(crate) fn mesh(
             ));
         }
     }
-    let (materials, element_material) = element_materials(&prepared, &roles, &surface_materials)?;
-    let mut min_length = vec![f64::INFINITY; materials.len() + 1];
+    Ok(())
+}
+
+/// Per material index (0: `[material]`, k: the k-th of the `materials` given), the smallest
+/// length h_e [m] of its elements ([`crate::mesh::lengths::element_length`]); ∞ for a
+/// material without elements.
+fn min_lengths(prepared: &PreparedMesh, element_material: &[u8], materials: usize) -> Vec<f64> {
+    let mut min_length = vec![f64::INFINITY; materials + 1];
     for e in 0..prepared.mesh.elements.len() {
         let k = element_material.get(e).copied().unwrap_or(0) as usize;
         let h = crate::mesh::lengths::element_length(&prepared.mesh, e);
         min_length[k] = min_length[k].min(h);
     }
+    min_length
+}
+
+/// The `[fem]` form completed from the mesh: x_range and y_range its bounding box [m],
+/// element_size the `mean` facet length [m], max_gap (if not given) the `shortest` one [m].
+fn effective_form(f: &RawFem, prepared: &PreparedMesh, shortest: f64, mean: f64) -> RawFem {
     let mut effective = f.clone();
     let b = prepared.bbox;
     effective.x_range = b[0];
@@ -186,19 +259,7 @@ pub(crate) fn mesh(
     effective.element_size = mean;
     // the paper's detection distance: the smallest element size along the interface
     effective.max_gap = effective.max_gap.or(Some(shortest));
-    Ok(Some((
-        MeshSpec {
-            file,
-            roles,
-            unit,
-            prepared: Arc::new(prepared),
-            laws,
-            materials,
-            element_material,
-            min_length,
-        },
-        effective,
-    )))
+    effective
 }
 
 /// The file (resolved) and the roles. A group listed twice, in one role or in both crack roles,
