@@ -37,4 +37,4 @@ pub use output::{
 pub use scene::Scene;
 pub use solver::central_difference::step;
 pub use solver::estimate::estimate;
-pub use solver::run::{run, run_with_fields, run_with_progress};
+pub use solver::run::{ended, run, run_with_fields, run_with_progress};
