@@ -27,4 +27,4 @@ pub mod testing;
 
 pub use budget::{Budget, Estimate, Part};
 pub use ended::RunEnded;
-pub use file::{Problem, Refused, line_of, locate, parse, problems_text, read, unknown_keys};
+pub use file::{Problem, Refused, SceneErrorKind, line_of, locate, parse, problems_text, read, unknown_keys};
