@@ -158,6 +158,13 @@ impl<O> Finished<O> {
     }
 }
 
+/// Prints the runs' warnings on stderr, one a line.
+pub fn print_warnings(warnings: &[String]) {
+    for w in warnings {
+        eprintln!("warning: {w}");
+    }
+}
+
 /// When a run's full output is written to its folder.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Keep {
