@@ -11,6 +11,7 @@ pub mod output;
 pub mod penalty;
 pub mod plot;
 pub mod quasi_static;
+pub mod rough;
 pub mod runner;
 pub mod series;
 pub mod sinusoid;

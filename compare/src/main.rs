@@ -3,7 +3,8 @@
 use anyhow::{Context, Result, anyhow};
 use clap::parser::ValueSource;
 use clap::{ArgMatches, Args, CommandFactory, FromArgMatches, Parser, Subcommand, ValueEnum};
-use compare::gate::metrics::{METRIC_NAMES, PAPER_RESOLUTION, Verdict, open_metrics};
+use compare::gate::metrics::{METRIC_NAMES, PAPER_RESOLUTION};
+use compare::gate::verdict::print_report;
 use compare::runner::Reporter;
 use compare::study::{FrictionRule, Study};
 use compare::sweep::{self, Model, scale_out};
@@ -141,6 +142,7 @@ enum PointModel {
     Spectral,
 }
 
+/// A progress bar per run, and the runs stopped on Ctrl-C.
 struct Bars(MultiProgress, &'static AtomicBool);
 
 impl Reporter for Bars {
@@ -172,19 +174,7 @@ impl Reporter for Bars {
     }
 }
 
-/// No progress bars (a sweep point's parent draws its own), but stops on Ctrl-C.
-struct Quiet(&'static AtomicBool);
-
-impl Reporter for Quiet {
-    fn run_started(&self, _label: &str) -> Box<dyn FnMut(u64, u64) + Send + '_> {
-        Box::new(|_, _| {})
-    }
-
-    fn stop(&self) -> &AtomicBool {
-        self.0
-    }
-}
-
+/// A default scene file: in scenes/ of the working directory, else of the repository.
 fn default_scene(file: &str) -> PathBuf {
     let local = PathBuf::from("scenes").join(file);
     if local.exists() {
@@ -194,50 +184,7 @@ fn default_scene(file: &str) -> PathBuf {
     }
 }
 
-fn print_table(verdicts: &[Verdict], open: &[String]) {
-    println!(
-        "\n{:<38} {:>8} {:>12} {:>10} {:>6}",
-        "metric", "mu", "value", "tolerance", "pass"
-    );
-    for v in verdicts {
-        let line = format!(
-            "{:<38} {:>8} {:>12.5} {:>10} {:>6} {}",
-            v.metric,
-            v.mu,
-            v.value,
-            v.tolerance,
-            match (v.pass, open.contains(&format!("{}@{}", v.metric, v.mu))) {
-                (true, _) => "yes",
-                (false, true) => "open",
-                (false, false) => "NO",
-            },
-            v.note
-        );
-        println!("{}", line.trim_end());
-    }
-}
-
-fn print_warnings(warnings: &[String]) {
-    for w in warnings {
-        eprintln!("warning: {w}");
-    }
-}
-
-/// The closing line; true when every metric passes or fails as listed in `open` (METRIC@MU).
-fn verdict_line(verdicts: &[Verdict], open: &[String]) -> Result<bool> {
-    let failing = open_metrics(verdicts, open).map_err(|e| anyhow!(e))?;
-    let closed = failing.iter().filter(|f| !open.contains(f)).count();
-    match (failing.len(), closed) {
-        (0, _) => println!("all metrics within tolerance"),
-        (n, 0) => println!(
-            "{n} metric(s) FAIL, all open (decision pending, docs/cases.md): {}",
-            failing.join(", ")
-        ),
-        (n, c) => println!("{n} metric(s) FAIL ({c} not open)"),
-    }
-    Ok(closed == 0)
-}
-
+/// Prints an error with its causes on one line and exits 1; exits 1 too when a check fails.
 fn main() -> ExitCode {
     match real_main() {
         Ok(true) => ExitCode::SUCCESS,
@@ -255,9 +202,9 @@ fn given(m: &ArgMatches, id: &str) -> bool {
     here || m.subcommand().is_some_and(|(_, sub)| given(sub, id))
 }
 
-fn real_main() -> Result<bool> {
-    let matches = Cli::command().get_matches();
-    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+/// The sweep jobs that read no scene here (`--collect`, a sweep point) run, and what `--emit`
+/// refuses is checked; `None`: the job reads its scene next.
+fn before_scene(matches: &ArgMatches, cli: &Cli) -> Result<Option<bool>> {
     match &cli.job {
         Some(Job::Sweep {
             collect: Some(dir), ..
@@ -269,33 +216,99 @@ fn real_main() -> Result<bool> {
                 ("max_steps", "--max-steps"),
             ] {
                 anyhow::ensure!(
-                    !given(&matches, id),
+                    !given(matches, id),
                     "{flag}: not taken with --collect, which reads each point's scene, size and budget \
                      from {}",
                     dir.join(scale_out::MANIFEST).display()
                 );
             }
-            return collect_sweep(dir, cli.common.out.as_deref());
+            return sweep::cli::collect(dir, cli.common.out.as_deref()).map(Some);
         }
         Some(Job::Sweep { emit: Some(dir), .. }) => anyhow::ensure!(
-            !given(&matches, "out"),
+            !given(matches, "out"),
             "--out: not taken with --emit; the points write into {} (give --out to --collect to put \
              sweep.csv elsewhere)",
             dir.display()
         ),
         Some(Job::SweepPoint { model, size, result }) => {
-            return sweep_point(&cli.common, *model, *size, result.as_deref());
+            let scene = cli
+                .common
+                .scene
+                .clone()
+                .unwrap_or_else(|| default_scene("center-crack.toml"));
+            let model = match model {
+                PointModel::Fem => Model::Fem,
+                PointModel::Spectral => Model::Spectral,
+            };
+            let (out, budget) = (cli.common.out.as_deref(), cli.common.budget.budget());
+            return sweep::cli::point(&scene, out, budget, model, *size, result.as_deref()).map(Some);
         }
         _ => {}
     }
+    Ok(None)
+}
+
+/// Parses the command line and runs its job; true when every check of the job passed.
+fn real_main() -> Result<bool> {
+    let matches = Cli::command().get_matches();
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+    if let Some(passed) = before_scene(&matches, &cli)? {
+        return Ok(passed);
+    }
     let file = match cli.job {
-        Some(Job::Sinusoid) => "sinusoidal-interface.toml",
-        Some(Job::Rough) => "rough-interface.toml",
+        Some(Job::Sinusoid) => compare::sinusoid::SCENE,
+        Some(Job::Rough) => compare::rough::SCENE,
         _ => "center-crack.toml",
     };
-    let scene_path = cli.common.scene.unwrap_or_else(|| default_scene(file));
-    let (mut study, text) = Study::read(&scene_path)?;
-    let rule_suffix = match (cli.common.friction_rule, &cli.job) {
+    let scene_path = cli.common.scene.clone().unwrap_or_else(|| default_scene(file));
+    let (study, text) = Study::read(&scene_path)?;
+    let (study, rule_suffix) = apply_options(study, &cli.common, cli.job.as_ref())?;
+    let out = |suffix: &str| {
+        cli.common.out.clone().unwrap_or_else(|| {
+            PathBuf::from("out").join(format!("{}{suffix}", preflight::paths::folder_name(&study.stem)))
+        })
+    };
+    let bars = Bars(
+        MultiProgress::new(),
+        preflight::stop::on_signal().map_err(|e| anyhow!(e))?,
+    );
+    match cli.job {
+        None => {
+            let dir = out(&rule_suffix);
+            let report = compare::gate::run_gate(&study, &PAPER_RESOLUTION, &dir, &bars)?;
+            print_report(&report, &dir, &cli.common.open)
+        }
+        Some(Job::Converged) => {
+            let dir = out(&format!("-converged{rule_suffix}"));
+            let report = compare::converged::run_converged(&study, &dir, &bars)?;
+            print_report(&report.gate, &dir, &cli.common.open)
+        }
+        Some(Job::Sweep { sizes, emit, .. }) => match emit {
+            Some(dir) => sweep::cli::emit(&study, &text, &scene_path, &sizes, &dir),
+            None => sweep::cli::run(&study, &scene_path, &sizes, &out("-sweep")),
+        },
+        Some(Job::Boundary { boxes }) => {
+            let dir = out("-boundary");
+            let report = compare::boundary::run_study(&study, &boxes, &dir, &bars)?;
+            compare::boundary::print_report(&report, &dir);
+            Ok(true)
+        }
+        Some(Job::Penalty { factors }) => {
+            let dir = out("-penalty");
+            let report = compare::penalty::run_study(&study, &factors, &dir, &bars)?;
+            compare::penalty::print_report(&report, &dir);
+            Ok(true)
+        }
+        Some(Job::Sinusoid) => compare::sinusoid::run(&study, &out(""), &bars),
+        Some(Job::Rough) => compare::rough::run(&study, &out(""), &bars),
+        Some(Job::SweepPoint { .. }) => unreachable!("invariant: handled before the scene is read"),
+    }
+}
+
+/// The options that change the study, checked: `--friction-rule` (its output-folder suffix
+/// returned), `--open`, the budget, `--concurrent-runs` and `--out`.
+fn apply_options(mut study: Study, common: &Common, job: Option<&Job>) -> Result<(Study, String)> {
+    let rule_suffix = match (common.friction_rule, job) {
         (None, _) => String::new(),
         (Some(rule), None | Some(Job::Converged)) => {
             let rule = match rule {
@@ -312,12 +325,12 @@ fn real_main() -> Result<bool> {
              [friction] contact_friction in the scene"
         ),
     };
-    if !cli.common.open.is_empty() {
+    if !common.open.is_empty() {
         anyhow::ensure!(
-            matches!(cli.job, None | Some(Job::Converged)),
+            matches!(job, None | Some(Job::Converged)),
             "--open: taken by the comparison and `converged` only"
         );
-        for o in &cli.common.open {
+        for o in &common.open {
             let name = o.split('@').next().unwrap_or_default();
             anyhow::ensure!(
                 o.contains('@') && METRIC_NAMES.contains(&name),
@@ -326,236 +339,10 @@ fn real_main() -> Result<bool> {
             );
         }
     }
-    study.budget = cli.common.budget.budget();
-    study.concurrent_runs = cli.common.concurrent_runs.map(|n| n as usize);
-    if let Some(dir) = &cli.common.out {
+    study.budget = common.budget.budget();
+    study.concurrent_runs = common.concurrent_runs.map(|n| n as usize);
+    if let Some(dir) = &common.out {
         preflight::paths::explicit(dir).map_err(|e| anyhow!(e))?;
     }
-    let out = |suffix: &str| {
-        cli.common.out.clone().unwrap_or_else(|| {
-            PathBuf::from("out").join(format!("{}{suffix}", preflight::paths::folder_name(&study.stem)))
-        })
-    };
-    let bars = Bars(
-        MultiProgress::new(),
-        preflight::stop::on_signal().map_err(|e| anyhow!(e))?,
-    );
-    match cli.job {
-        None => {
-            let dir = out(&rule_suffix);
-            let report = compare::gate::run_gate(&study, &PAPER_RESOLUTION, &dir, &bars)?;
-            print_table(&report.verdicts, &cli.common.open);
-            print_warnings(&report.warnings);
-            println!("\n{} files written to {}", report.files.len(), dir.display());
-            verdict_line(&report.verdicts, &cli.common.open)
-        }
-        Some(Job::Converged) => {
-            let dir = out(&format!("-converged{rule_suffix}"));
-            let report = compare::converged::run_converged(&study, &dir, &bars)?;
-            print_table(&report.gate.verdicts, &cli.common.open);
-            print_warnings(&report.gate.warnings);
-            println!("\n{} files written to {}", report.gate.files.len(), dir.display());
-            verdict_line(&report.gate.verdicts, &cli.common.open)
-        }
-        Some(Job::Sweep { sizes, emit, .. }) => match emit {
-            Some(dir) => emit_sweep(&study, &text, &scene_path, &sizes, &dir),
-            None => run_sweep(&study, &scene_path, &sizes, &out("-sweep")),
-        },
-        Some(Job::Boundary { boxes }) => {
-            let dir = out("-boundary");
-            let report = compare::boundary::run_study(&study, &boxes, &dir, &bars)?;
-            println!(
-                "\n{:>6} {:>6} {:>6} {:>14} {:>12} {:>14} {:>8}",
-                "box", "field", "mu", "onset lag/T", "RMS/a", "speed diff", "wall s"
-            );
-            for r in &report.rows {
-                println!(
-                    "{:>5}a {:>6} {:>6} {:>14.5} {:>12.4} {:>13.2}% {:>8.1}",
-                    4 * r.box_factor,
-                    format!("{:?}", r.field).to_lowercase(),
-                    r.mu,
-                    r.onset_lag_over_t,
-                    r.tip_position_rms_over_a,
-                    100.0 * r.mean_speed_difference,
-                    r.wall_s
-                );
-            }
-            println!("\n{} files written to {}", report.files.len(), dir.display());
-            Ok(true)
-        }
-        Some(Job::Penalty { factors }) => {
-            let dir = out("-penalty");
-            let report = compare::penalty::run_study(&study, &factors, &dir, &bars)?;
-            print!("{}", compare::penalty::table(&report.summary));
-            print!("{}", compare::penalty::limit_lines(&report.limits));
-            print_warnings(&report.warnings);
-            println!("\n{} files written to {}", report.files.len(), dir.display());
-            Ok(true)
-        }
-        Some(Job::Sinusoid | Job::Rough) => {
-            let dir = out("");
-            let report = compare::sinusoid::run_study(&study, &dir, &bars)?;
-            print!("{}", compare::sinusoid::table(&report.rows, &report.setup));
-            println!("\n{} files written to {}", report.files.len(), dir.display());
-            print_warnings(&report.warnings);
-            for f in &report.failures {
-                println!("FAILED: {f}");
-            }
-            Ok(report.failures.is_empty())
-        }
-        Some(Job::SweepPoint { .. }) => unreachable!("invariant: handled before the scene is read"),
-    }
-}
-
-/// One sweep point in this process. With `--result` every error after the command line was read
-/// (the scene, the budget, the run) is recorded in `<result>.failed` too, so that `--collect`
-/// can say why the point failed; the command exits non-zero either way.
-fn sweep_point(common: &Common, model: PointModel, size: f64, result: Option<&Path>) -> Result<bool> {
-    let model = match model {
-        PointModel::Fem => Model::Fem,
-        PointModel::Spectral => Model::Spectral,
-    };
-    if let Some(r) = result {
-        scale_out::prepare_result(r)?;
-    }
-    let run = || -> Result<sweep::Point> {
-        let scene = common
-            .scene
-            .clone()
-            .unwrap_or_else(|| default_scene("center-crack.toml"));
-        let mut study = Study::load(&scene)?;
-        study.budget = common.budget.budget();
-        let dir = match &common.out {
-            Some(dir) => preflight::paths::explicit(dir)
-                .map_err(|e| anyhow!(e))?
-                .to_path_buf(),
-            None => {
-                PathBuf::from("out").join(format!("{}-sweep", preflight::paths::folder_name(&study.stem)))
-            }
-        };
-        let stop = preflight::stop::on_signal().map_err(|e| anyhow!(e))?;
-        sweep::run_point(&study, model, size, &dir, &Quiet(stop))
-    };
-    match (run(), result) {
-        (Ok(p), None) => sweep::print_point(&p)?,
-        (Ok(p), Some(r)) => {
-            scale_out::write_result(r, &p)?;
-            println!("wrote {}", r.display());
-        }
-        (Err(e), Some(r)) => {
-            if let Err(w) = scale_out::write_failure(r, &format!("{e:#}")) {
-                return Err(e.context(format!("(and recording the failure: {w:#})")));
-            }
-            return Err(e);
-        }
-        (Err(e), None) => return Err(e),
-    }
-    Ok(true)
-}
-
-/// The sweep written out as jobs (`sweep --emit DIR`), after every check the sweep makes.
-fn emit_sweep(study: &Study, text: &str, scene: &Path, sizes: &[f64], dir: &Path) -> Result<bool> {
-    let points = sweep::plan(study, &sweep::sizes(sizes)?)?;
-    let exe = std::env::current_exe().context("locating the compare executable")?;
-    let target = scale_out::check(dir, &exe)?;
-    // `--collect` writes its results into the same folder
-    preflight::paths::claim(&target.dir, "compare").map_err(|e| anyhow!(e))?;
-    let plan = sweep::preflight(study, &points, &target.dir)?;
-    println!("{plan}");
-    let files = scale_out::emit(&target, study, text, scene, &points, &plan)?;
-    let d = target.dir.display();
-    let jobs = target.dir.join(scale_out::JOBS);
-    let jobs = jobs.display();
-    println!(
-        "
-wrote {} files to {d}: a scene per point in {}/, {}, {} and {}",
-        files.len(),
-        scale_out::SCENES,
-        scale_out::JOBS,
-        scale_out::SBATCH,
-        scale_out::MANIFEST
-    );
-    println!(
-        "run the {} points (each writes {d}/{}/<model>_<h>mm.csv) with one of:",
-        points.len(),
-        scale_out::POINTS
-    );
-    let ways = [
-        (
-            format!("xargs -P 2 -I{{}} sh -c {{}} < {jobs}"),
-            "here, two at a time",
-        ),
-        (
-            format!("parallel < {jobs}"),
-            "GNU parallel (--sshlogin for other machines)",
-        ),
-        (
-            format!("sbatch {d}/{}", scale_out::SBATCH),
-            "Slurm, one array task per point",
-        ),
-    ];
-    let width = ways.iter().map(|(c, _)| c.len()).max().unwrap_or(0);
-    for (command, what) in ways {
-        println!("  {command:<width$}  # {what}");
-    }
-    println!("then: {} sweep --collect {d}", exe.display());
-    Ok(true)
-}
-
-/// The results of an emitted sweep (`sweep --collect DIR`), written as the sweep writes them.
-fn collect_sweep(dir: &Path, out: Option<&Path>) -> Result<bool> {
-    let out = match out {
-        Some(o) => preflight::paths::explicit(o).map_err(|e| anyhow!(e))?,
-        None => dir,
-    };
-    let (manifest, measured) = scale_out::collect(dir)?;
-    preflight::paths::claim(out, "compare").map_err(|e| anyhow!(e))?;
-    finish_sweep(&measured, manifest.duration, out)
-}
-
-fn run_sweep(study: &Study, scene: &Path, sizes: &[f64], dir: &Path) -> Result<bool> {
-    let points = sweep::plan(study, &sweep::sizes(sizes)?)?;
-    println!("{}", sweep::preflight(study, &points, dir)?);
-    let exe = std::env::current_exe().context("locating the compare executable")?;
-    let bar = ProgressBar::new(points.len() as u64).with_style(
-        ProgressStyle::with_template("sweep [{bar:40}] {pos}/{len} points ({elapsed}) {msg}")
-            .expect("invariant: the template is valid"),
-    );
-    let measured = sweep::run_children(&exe, scene, dir, study.budget, &points, &mut |p| {
-        bar.set_message(format!(
-            "{:?} h = {:.2e} m: {:.1} s",
-            p.model, p.spacing, p.wall_s
-        ));
-        bar.inc(1);
-    })?;
-    bar.finish();
-    finish_sweep(&measured, study.fem.duration(), dir)
-}
-
-/// Errors against the finest point of each model, the table, `sweep.csv` and the figure.
-fn finish_sweep(measured: &[sweep::Point], duration: f64, dir: &Path) -> Result<bool> {
-    let rows = sweep::with_errors(measured, duration);
-    println!(
-        "\n{:<9} {:>10} {:>10} {:>9} {:>9} {:>9} {:>11} {:>9}",
-        "model", "spacing_m", "dt_s", "wall_s", "peak_MiB", "onset_s", "onsetErr/T", "speedErr"
-    );
-    for r in &rows {
-        let line = format!(
-            "{:<9} {:>10.3e} {:>10.3e} {:>9.1} {:>9.0} {:>9.5} {:>11.4} {:>9.4} {}",
-            r.model.tag(),
-            r.spacing,
-            r.time_step,
-            r.wall_s,
-            r.peak_memory_bytes / 1048576.0,
-            r.onset,
-            r.onset_error_over_t,
-            r.speed_error_rel,
-            r.note
-        );
-        println!("{}", line.trim_end());
-    }
-    let files = sweep::write_results(dir, &rows)?;
-    let names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
-    println!("\nwrote {}", names.join(", "));
-    Ok(true)
+    Ok((study, rule_suffix))
 }

@@ -6,6 +6,7 @@
 use crate::series::TipRow;
 use crate::study::Study;
 use anyhow::{Context, Result};
+use preflight::RunEnded;
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
@@ -133,7 +134,8 @@ impl std::fmt::Display for Plan {
     }
 }
 
-/// How a run ended.
+/// A run that ended, as a study reads it: its output, its wall time, and why it stopped before T
+/// if it did.
 #[derive(Debug, Clone)]
 pub struct Finished<O> {
     /// The output: complete, or up to the failure.
@@ -153,6 +155,13 @@ impl<O> Finished<O> {
             None => Ok(self.out),
             Some(f) => Err(anyhow::anyhow!(f)),
         }
+    }
+}
+
+/// Prints the runs' warnings on stderr, one a line.
+pub fn print_warnings(warnings: &[String]) {
+    for w in warnings {
+        eprintln!("warning: {w}");
     }
 }
 
@@ -201,33 +210,18 @@ pub struct Job<'a, S> {
     pub keep: Keep,
 }
 
-/// How a run of either model ended, in one form.
-pub enum Ended<O> {
-    /// It reached T.
-    Completed(O),
-    /// It went unstable (`where_`: its location) or was stopped on request (`where_`: `None`).
-    Early {
-        /// Last step computed.
-        step: u64,
-        /// Its time [s].
-        time_s: f64,
-        /// Where it went unstable; `None` when it was stopped on request.
-        where_: Option<String>,
-        /// The records up to there.
-        partial: O,
-    },
-    /// It could not start.
-    Failed(anyhow::Error),
-}
-
 /// What the runner needs of a model: run a scene, write its output, say what the user should
 /// know about a finished run.
 pub trait Model: Sync {
     /// The run's records.
     type Output;
 
-    /// Runs the scene with progress reports and the stop flag.
-    fn run_scene(&self, progress: &mut dyn FnMut(u64, u64), stop: &AtomicBool) -> Ended<Self::Output>;
+    /// Runs the scene with progress reports and the stop flag; the error when it could not start.
+    fn run_scene(
+        &self,
+        progress: &mut dyn FnMut(u64, u64),
+        stop: &AtomicBool,
+    ) -> Result<RunEnded<Self::Output>>;
 
     /// Writes every record of `out` as CSV into `dir`.
     fn write(out: &Self::Output, dir: &Path) -> std::io::Result<Vec<std::path::PathBuf>>;
@@ -241,32 +235,12 @@ pub trait Model: Sync {
 impl Model for fem::Scene {
     type Output = fem::RunOutput;
 
-    fn run_scene(&self, progress: &mut dyn FnMut(u64, u64), stop: &AtomicBool) -> Ended<fem::RunOutput> {
-        match fem::run_with_progress(self, progress, stop) {
-            Ok(out) => Ended::Completed(out),
-            Err(fem::RunError::Unstable {
-                step,
-                time_s,
-                location,
-                partial,
-            }) => Ended::Early {
-                step,
-                time_s,
-                where_: Some(location),
-                partial: *partial,
-            },
-            Err(fem::RunError::Interrupted {
-                step,
-                time_s,
-                partial,
-            }) => Ended::Early {
-                step,
-                time_s,
-                where_: None,
-                partial: *partial,
-            },
-            Err(e) => Ended::Failed(e.into()),
-        }
+    fn run_scene(
+        &self,
+        progress: &mut dyn FnMut(u64, u64),
+        stop: &AtomicBool,
+    ) -> Result<RunEnded<fem::RunOutput>> {
+        Ok(fem::ended(fem::run_with_progress(self, progress, stop))?)
     }
 
     fn write(out: &fem::RunOutput, dir: &Path) -> std::io::Result<Vec<std::path::PathBuf>> {
@@ -291,32 +265,14 @@ impl Model for fem::Scene {
 impl Model for spectral::Scene {
     type Output = spectral::RunOutput;
 
-    fn run_scene(&self, progress: &mut dyn FnMut(u64, u64), stop: &AtomicBool) -> Ended<spectral::RunOutput> {
-        match spectral::run_with_progress(self, progress, stop) {
-            Ok(out) => Ended::Completed(out),
-            Err(spectral::RunError::Unstable {
-                step,
-                time_s,
-                location,
-                partial,
-            }) => Ended::Early {
-                step,
-                time_s,
-                where_: Some(location),
-                partial: *partial,
-            },
-            Err(spectral::RunError::Interrupted {
-                step,
-                time_s,
-                partial,
-            }) => Ended::Early {
-                step,
-                time_s,
-                where_: None,
-                partial: *partial,
-            },
-            Err(e) => Ended::Failed(e.into()),
-        }
+    fn run_scene(
+        &self,
+        progress: &mut dyn FnMut(u64, u64),
+        stop: &AtomicBool,
+    ) -> Result<RunEnded<spectral::RunOutput>> {
+        Ok(spectral::ended(spectral::run_with_progress(
+            self, progress, stop,
+        ))?)
     }
 
     fn write(out: &spectral::RunOutput, dir: &Path) -> std::io::Result<Vec<std::path::PathBuf>> {
@@ -337,29 +293,43 @@ pub fn run<M: Model>(job: Job<M>, rep: &dyn Reporter) -> Result<Finished<M::Outp
     } = job;
     let mut progress = rep.run_started(label);
     let start = Instant::now();
-    let ended = scene.run_scene(&mut *progress, rep.stop());
+    let ended = scene
+        .run_scene(&mut *progress, rep.stop())
+        .context(label.to_string())?;
     let wall_s = start.elapsed().as_secs_f64();
     let write =
         |out: &M::Output| M::write(out, dir).with_context(|| format!("{label}: writing {}", dir.display()));
-    let (out, failure) = match ended {
-        Ended::Completed(out) => (out, None),
-        Ended::Early {
+    let failure = match &ended {
+        RunEnded::Finished(_) => None,
+        RunEnded::Unstable {
             step,
             time_s,
-            where_: Some(location),
-            partial,
-        } => (partial, Some(unstable(label, dir, step, time_s, &location))),
-        Ended::Early {
+            location,
+            ..
+        } => Some(unstable(label, dir, *step, *time_s, location)),
+        RunEnded::Interrupted {
             step,
             time_s,
-            where_: None,
             partial,
         } => {
-            write(&partial)?;
-            return Err(interrupted(label, dir, step, time_s));
+            write(partial)?;
+            return Err(interrupted(label, dir, *step, *time_s));
         }
-        Ended::Failed(e) => return Err(e).context(label.to_string()),
+        // the harness takes no field snapshots; were one not written, the study stops as on
+        // any other error of the model
+        RunEnded::OutputFailed {
+            step,
+            time_s,
+            message,
+            ..
+        } => {
+            return Err(anyhow::anyhow!(
+                "field snapshot at step {step}, t = {time_s} s not written: {message}"
+            ))
+            .context(label.to_string());
+        }
     };
+    let out = ended.into_output();
     if keep.writes(failure.is_some()) {
         write(&out)?;
     }

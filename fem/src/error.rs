@@ -72,19 +72,35 @@ impl SceneError {
 
     /// The problems this error stands for (one, or the list of `Invalid`).
     pub fn problems(&self) -> Vec<Problem> {
+        preflight::SceneErrorKind::problems(self)
+    }
+}
+
+/// Its problems and the conversion from a refused file are preflight's, shared by every model.
+impl preflight::SceneErrorKind for SceneError {
+    fn parse(message: String) -> SceneError {
+        SceneError::Parse(message)
+    }
+
+    fn invalid(problems: Vec<Problem>) -> SceneError {
+        SceneError::Invalid { problems }
+    }
+
+    fn listed(&self) -> Option<&[Problem]> {
         match self {
-            SceneError::Invalid { problems } => problems.clone(),
-            e => vec![Problem::new(e.key().unwrap_or(""), e.to_string())],
+            SceneError::Invalid { problems } => Some(problems),
+            _ => None,
         }
+    }
+
+    fn key(&self) -> Option<&str> {
+        SceneError::key(self)
     }
 }
 
 impl From<preflight::Refused> for SceneError {
     fn from(r: preflight::Refused) -> SceneError {
-        match r {
-            preflight::Refused::Parse(m) => SceneError::Parse(m),
-            preflight::Refused::Invalid(problems) => SceneError::Invalid { problems },
-        }
+        preflight::SceneErrorKind::refused(r)
     }
 }
 

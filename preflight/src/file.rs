@@ -101,6 +101,37 @@ pub enum Refused {
     Invalid(Vec<Problem>),
 }
 
+/// What every model's scene error has in common: it can stand for a refused file (one that does
+/// not parse, or the list of its problems), and any other of its errors is one problem of one key.
+/// A model implements the four ways in; the problems and the conversion from [`Refused`] are
+/// here, once.
+pub trait SceneErrorKind: std::fmt::Display + Sized {
+    /// The error of a file that does not parse (the parser's message, with its line).
+    fn parse(message: String) -> Self;
+    /// The error that lists every problem of a file.
+    fn invalid(problems: Vec<Problem>) -> Self;
+    /// The problems of an error made by [`SceneErrorKind::invalid`]; `None` for any other.
+    fn listed(&self) -> Option<&[Problem]>;
+    /// The dotted key the error is about (`None` for a file that does not parse, or a list).
+    fn key(&self) -> Option<&str>;
+
+    /// The problems this error stands for (one, or the list).
+    fn problems(&self) -> Vec<Problem> {
+        match self.listed() {
+            Some(problems) => problems.to_vec(),
+            None => vec![Problem::new(self.key().unwrap_or(""), self.to_string())],
+        }
+    }
+
+    /// The error for a refused file.
+    fn refused(r: Refused) -> Self {
+        match r {
+            Refused::Parse(m) => Self::parse(m),
+            Refused::Invalid(problems) => Self::invalid(problems),
+        }
+    }
+}
+
 /// Reads a scene the way every model does: parses `text` into its raw form `R` collecting unknown
 /// keys, validates it with `validate` (which reports what it finds through `problems`), and
 /// refuses the file with every problem at once, each on its line. A file with unknown keys is

@@ -5,11 +5,17 @@
 //! - [`budget`]: memory and step estimates against a budget, refused with the key to change;
 //! - [`paths`]: output folders that stay where they are asked to be, and are writable before any
 //!   work;
-//! - [`stop`] and [`options`] (feature `cli`): Ctrl-C and SIGTERM stop a run at its next step;
-//!   the command-line options every command shares.
+//! - [`ended`]: how a run ended (reached T, unstable, stopped on request), in one form for both
+//!   models' command lines and the harness;
+//! - [`stop`], [`options`] and [`command`] (feature `cli`): Ctrl-C and SIGTERM stop a run at its
+//!   next step; the command-line options every command shares; the checks and last line the two
+//!   models' commands share around their run.
 #![warn(missing_docs)]
 
 pub mod budget;
+#[cfg(feature = "cli")]
+pub mod command;
+pub mod ended;
 pub mod file;
 #[cfg(feature = "cli")]
 pub mod options;
@@ -20,4 +26,5 @@ pub mod stop;
 pub mod testing;
 
 pub use budget::{Budget, Estimate, Part};
-pub use file::{Problem, Refused, line_of, locate, parse, problems_text, read, unknown_keys};
+pub use ended::RunEnded;
+pub use file::{Problem, Refused, SceneErrorKind, line_of, locate, parse, problems_text, read, unknown_keys};

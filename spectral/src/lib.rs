@@ -4,8 +4,9 @@
 //! matching normal displacements and Prakash-regularised Coulomb friction (Pundir & Anciaux 2020,
 //! §3.2). Method notes: docs/spectral-model.md. SI units throughout.
 //!
-//! Public surface: [`Scene`], [`run`], [`run_with_progress`], [`RunOutput`], [`TipRecord`], errors;
-//! the building blocks ([`kernels`], [`elastodynamics`], [`law`]) are public for verification.
+//! Public surface: [`Scene`], [`run`], [`run_with_progress`], [`ended`], [`RunOutput`],
+//! [`TipRecord`], errors; the building blocks ([`kernels`], [`elastodynamics`], [`law`]) are
+//! public for verification.
 #![warn(missing_docs)]
 
 mod convolution;
@@ -38,6 +39,35 @@ pub use scene::{
 /// Runs the scene from t = 0 to T = `[loading].duration`.
 pub fn run(scene: &Scene) -> Result<RunOutput, RunError> {
     run_with_progress(scene, &mut |_, _| {}, &AtomicBool::new(false))
+}
+
+/// How a run ended, from what [`run_with_progress`] (or [`run`]) returned: the error when there
+/// was no run (the model cannot be built).
+pub fn ended(result: Result<RunOutput, RunError>) -> Result<preflight::RunEnded<RunOutput>, RunError> {
+    match result {
+        Ok(out) => Ok(preflight::RunEnded::Finished(out)),
+        Err(RunError::Unstable {
+            step,
+            time_s,
+            location,
+            partial,
+        }) => Ok(preflight::RunEnded::Unstable {
+            step,
+            time_s,
+            location,
+            partial: *partial,
+        }),
+        Err(RunError::Interrupted {
+            step,
+            time_s,
+            partial,
+        }) => Ok(preflight::RunEnded::Interrupted {
+            step,
+            time_s,
+            partial: *partial,
+        }),
+        Err(e) => Err(e),
+    }
 }
 
 /// Number of sample times k·interval ≤ duration (+1 for t = 0).

@@ -139,3 +139,25 @@ pub fn run_study(study: &Study, boxes: &[u32], dir: &Path, rep: &dyn Reporter) -
     files.push(figure::draw(dir, &rows)?);
     Ok(BoundaryReport { rows, files })
 }
+
+/// Prints the study's table (one row per box, field and friction value) and where its files
+/// went (`dir`).
+pub fn print_report(report: &BoundaryReport, dir: &Path) {
+    println!(
+        "\n{:>6} {:>6} {:>6} {:>14} {:>12} {:>14} {:>8}",
+        "box", "field", "mu", "onset lag/T", "RMS/a", "speed diff", "wall s"
+    );
+    for r in &report.rows {
+        println!(
+            "{:>5}a {:>6} {:>6} {:>14.5} {:>12.4} {:>13.2}% {:>8.1}",
+            4 * r.box_factor,
+            format!("{:?}", r.field).to_lowercase(),
+            r.mu,
+            r.onset_lag_over_t,
+            r.tip_position_rms_over_a,
+            100.0 * r.mean_speed_difference,
+            r.wall_s
+        );
+    }
+    println!("\n{} files written to {}", report.files.len(), dir.display());
+}

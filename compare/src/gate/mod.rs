@@ -7,6 +7,7 @@
 pub mod fem_figures;
 pub mod figures;
 pub mod metrics;
+pub mod verdict;
 
 use crate::concurrent::{self, Lanes, Task};
 use crate::output::{mu_tag, write_rows, write_tips};

@@ -144,6 +144,15 @@ pub fn limit_lines(limits: &[Limit]) -> String {
     s
 }
 
+/// Prints the study's table, the limits as eps_n → ∞, the runs' warnings and where its files
+/// went (`dir`).
+pub fn print_report(report: &PenaltyReport, dir: &Path) {
+    print!("{}", table(&report.summary));
+    print!("{}", limit_lines(&report.limits));
+    crate::runner::print_warnings(&report.warnings);
+    println!("\n{} files written to {}", report.files.len(), dir.display());
+}
+
 #[cfg(test)]
 mod tests {
     use super::rows::tests::{scene, synthetic};

@@ -19,6 +19,9 @@ use setup::{ModelRun, RunInfo, Setup, row};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+/// The study's scene in scenes/ (the default of `compare sinusoid`).
+pub const SCENE: &str = "sinusoidal-interface.toml";
+
 /// What the command produced.
 #[derive(Debug, Clone)]
 pub struct SinusoidReport {
@@ -125,6 +128,25 @@ pub fn table(rows: &[(SinusoidSummary, RunInfo)], setup: &Setup) -> String {
         );
     }
     s
+}
+
+/// Runs every model of `study` into `dir` ([`run_study`]) and prints its end ([`print_report`]);
+/// true when no run went unstable (an unstable run's output is kept).
+pub fn run(study: &Study, dir: &Path, rep: &dyn Reporter) -> Result<bool> {
+    let report = run_study(study, dir, rep)?;
+    Ok(print_report(&report, dir))
+}
+
+/// Prints the study's table, where its files went (`dir`), the runs' warnings and the runs
+/// that went unstable; true when none did.
+pub fn print_report(report: &SinusoidReport, dir: &Path) -> bool {
+    print!("{}", table(&report.rows, &report.setup));
+    println!("\n{} files written to {}", report.files.len(), dir.display());
+    crate::runner::print_warnings(&report.warnings);
+    for f in &report.failures {
+        println!("FAILED: {f}");
+    }
+    report.failures.is_empty()
 }
 
 #[cfg(test)]

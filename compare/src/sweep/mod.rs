@@ -9,6 +9,8 @@
 //! The points run as children of `compare sweep`, or anywhere else: [`scale_out`] writes them out
 //! as independent jobs and reads their results back.
 
+#[cfg(feature = "cli")]
+pub mod cli;
 pub mod scale_out;
 
 use crate::runner::{Job, Keep, Reporter, fem_tips, run_fem, run_spectral, spectral_tips};

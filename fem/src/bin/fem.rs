@@ -2,10 +2,13 @@
 //! budgets, the output folder), then runs the scene and writes the CSV records (and the ParaView
 //! snapshots when the scene asks for them).
 
-use anyhow::{Context, anyhow, bail};
+use anyhow::{Context, anyhow};
 use clap::Parser;
 use indicatif::{ProgressBar, ProgressStyle};
-use std::path::PathBuf;
+use preflight::RunEnded;
+use preflight::command::{Prepared, StoppedEarly};
+use std::convert::Infallible;
+use std::path::{Path, PathBuf};
 
 /// Runs one scene with the hybrid (or standard) cohesive-contact FE model and writes its records
 /// as CSV (tips, interface, faces, contact, energy, arrivals, probes and the diagnostics the
@@ -23,37 +26,27 @@ struct Cli {
 /// Prints an error with its causes on one line and exits 1: never a backtrace, whatever
 /// `RUST_BACKTRACE` says (it would bury the one line that says what to change).
 fn main() -> std::process::ExitCode {
-    match run() {
-        Ok(()) => std::process::ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e:#}");
-            std::process::ExitCode::FAILURE
-        }
-    }
+    preflight::command::exit(run())
 }
 
+/// Checks everything ([`preflight::command::prepare`]), runs the scene with a progress bar and
+/// writes what it computed; a run that stopped before T ends in an error saying why and where its
+/// output went.
 fn run() -> anyhow::Result<()> {
     let cli = Cli::parse();
-    let text =
-        std::fs::read_to_string(&cli.scene).with_context(|| format!("reading {}", cli.scene.display()))?;
-    let dir = cli.scene.parent().unwrap_or(std::path::Path::new("."));
-    let scene =
-        fem::Scene::from_toml_str_in(&text, dir).with_context(|| format!("scene {}", cli.scene.display()))?;
-    let out_dir = cli.run.out_dir("fem", &cli.scene).map_err(|e| anyhow!(e))?;
-    let estimate = fem::estimate(&scene);
-    cli.run
-        .budget
-        .budget()
-        .check(&estimate)
-        .map_err(|e| anyhow!("scene {}: {e}", cli.scene.display()))?;
-    preflight::paths::claim(&out_dir, "fem").map_err(|e| anyhow!(e))?;
-    // one run per folder: an earlier run's files would stand beside this one's
-    let removed = fem::output::clear_previous(&out_dir).with_context(|| {
-        format!(
-            "output folder {}: removing the previous run's files",
-            out_dir.display()
-        )
-    })?;
+    let Prepared {
+        scene,
+        estimate,
+        out_dir,
+        removed,
+    } = preflight::command::prepare(
+        "fem",
+        &cli.scene,
+        &cli.run,
+        fem::Scene::from_toml_str_in,
+        |scene| Ok::<_, Infallible>(fem::estimate(scene)),
+        fem::output::clear_previous,
+    )?;
     let mut fields = match scene.fem.paraview {
         Some(_) => Some(
             fem::ParaviewWriter::new(&out_dir, estimate.steps)
@@ -62,23 +55,7 @@ fn run() -> anyhow::Result<()> {
         None => None,
     };
     let stop = preflight::stop::on_signal().map_err(|e| anyhow!(e))?;
-    println!(
-        "{}: {} (dt = {:.4e} s); output in {}{}",
-        cli.scene.display(),
-        estimate.summary(),
-        scene.time_step(),
-        out_dir.display(),
-        preflight::paths::removed_note(removed)
-    );
-    if let (Some(p), Some((count, each))) = (scene.fem.paraview, fem::solver::estimate::field_files(&scene)) {
-        println!(
-            "ParaView: {count} snapshots, one every {} steps, about {} each ({} in all), in {}",
-            p.every(scene.time_step()),
-            preflight::budget::human(each),
-            preflight::budget::human(each.saturating_mul(count)),
-            out_dir.join("fields.pvd").display()
-        );
-    }
+    announce(&cli.scene, &scene, &estimate, &out_dir, removed);
     let bar = ProgressBar::new(estimate.steps);
     bar.set_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} steps {elapsed_precise} eta {eta}")
@@ -95,40 +72,77 @@ fn run() -> anyhow::Result<()> {
         fields.as_mut().map(|w| w as &mut dyn fem::FieldSink),
     );
     bar.finish();
-    let (output, failure) = match result {
-        Ok(o) => (o, None),
-        Err(fem::RunError::Unstable {
+    let ended = fem::ended(result)?;
+    let why = why(&ended);
+    report(&scene, &ended.into_output(), &out_dir, started, fields.as_ref())?;
+    match why {
+        Some(why) => Err(StoppedEarly { why, out_dir }.into()),
+        None => Ok(()),
+    }
+}
+
+/// The lines before the run: the estimate, the time step, the output folder (and the files of an
+/// earlier run removed from it), and the ParaView snapshots to come.
+fn announce(
+    scene_path: &Path,
+    scene: &fem::Scene,
+    estimate: &preflight::Estimate,
+    out_dir: &Path,
+    removed: usize,
+) {
+    println!(
+        "{}: {} (dt = {:.4e} s); output in {}{}",
+        scene_path.display(),
+        estimate.summary(),
+        scene.time_step(),
+        out_dir.display(),
+        preflight::paths::removed_note(removed)
+    );
+    if let (Some(p), Some((count, each))) = (scene.fem.paraview, fem::solver::estimate::field_files(scene)) {
+        println!(
+            "ParaView: {count} snapshots, one every {} steps, about {} each ({} in all), in {}",
+            p.every(scene.time_step()),
+            preflight::budget::human(each),
+            preflight::budget::human(each.saturating_mul(count)),
+            out_dir.join("fields.pvd").display()
+        );
+    }
+}
+
+/// Why a run stopped before T, as this command says it (`None`: it reached T).
+fn why(ended: &RunEnded<fem::RunOutput>) -> Option<String> {
+    match ended {
+        RunEnded::Finished(_) => None,
+        RunEnded::Unstable {
             step,
             time_s,
             location,
-            partial,
-        }) => (
-            *partial,
-            Some(format!("unstable at step {step}, t = {time_s} s: {location}")),
-        ),
-        Err(fem::RunError::Interrupted {
-            step,
-            time_s,
-            partial,
-        }) => (
-            *partial,
-            Some(format!("stopped on request at step {step}, t = {time_s} s")),
-        ),
-        Err(fem::RunError::FieldOutput {
+            ..
+        } => Some(format!("unstable at step {step}, t = {time_s} s: {location}")),
+        RunEnded::Interrupted { step, time_s, .. } => {
+            Some(format!("stopped on request at step {step}, t = {time_s} s"))
+        }
+        RunEnded::OutputFailed {
             step,
             time_s,
             message,
-            partial,
-        }) => (
-            *partial,
-            Some(format!(
-                "stopped at step {step}, t = {time_s} s: a field snapshot could not be written: {message}"
-            )),
-        ),
-        Err(e) => return Err(e.into()),
-    };
-    let files =
-        fem::write_csv(&output, &out_dir).with_context(|| format!("writing {}", out_dir.display()))?;
+            ..
+        } => Some(format!(
+            "stopped at step {step}, t = {time_s} s: a field snapshot could not be written: {message}"
+        )),
+    }
+}
+
+/// Writes the run's records (complete or partial) and says what went where: the time profile,
+/// the files, the ParaView collection, the cracks, and contacts lost to the detection distance.
+fn report(
+    scene: &fem::Scene,
+    output: &fem::RunOutput,
+    out_dir: &Path,
+    started: std::time::Instant,
+    fields: Option<&fem::ParaviewWriter>,
+) -> anyhow::Result<()> {
+    let files = fem::write_csv(output, out_dir).with_context(|| format!("writing {}", out_dir.display()))?;
     println!(
         "{} steps, dt = {:.4e} s, wall {:.1} s on {} thread(s); where the time went:\n{}",
         output.steps,
@@ -140,7 +154,7 @@ fn run() -> anyhow::Result<()> {
     for f in files {
         println!("wrote {}", f.display());
     }
-    if let Some(w) = &fields {
+    if let Some(w) = fields {
         let pvd = w
             .finish()
             .with_context(|| format!("writing {}", out_dir.join("fields.pvd").display()))?;
@@ -161,9 +175,6 @@ fn run() -> anyhow::Result<()> {
              fem.max_gap = {} m (per step in contact.csv); raise fem.max_gap or stiffen fem.eps_n",
             record.dropped_contacts, scene.fem.max_gap
         );
-    }
-    if let Some(msg) = failure {
-        bail!("{msg}; the output up to there is in {}", out_dir.display());
     }
     Ok(())
 }

@@ -13,6 +13,7 @@ use crate::records::RunOutput;
 use crate::records::fields::FieldSink;
 use crate::scene::Scene;
 use crate::solver::central_difference::step;
+use preflight::RunEnded;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Runs the scene from t = 0 to T.
@@ -29,6 +30,46 @@ pub fn run_with_progress(
     stop: &AtomicBool,
 ) -> Result<RunOutput, RunError> {
     run_with_fields(scene, progress, stop, None)
+}
+
+/// How a run ended, from what [`run_with_fields`] (or [`run`], [`run_with_progress`]) returned:
+/// the error when there was no run (an invalid scene, a model that cannot be built).
+pub fn ended(result: Result<RunOutput, RunError>) -> Result<RunEnded<RunOutput>, RunError> {
+    match result {
+        Ok(out) => Ok(RunEnded::Finished(out)),
+        Err(RunError::Unstable {
+            step,
+            time_s,
+            location,
+            partial,
+        }) => Ok(RunEnded::Unstable {
+            step,
+            time_s,
+            location,
+            partial: *partial,
+        }),
+        Err(RunError::Interrupted {
+            step,
+            time_s,
+            partial,
+        }) => Ok(RunEnded::Interrupted {
+            step,
+            time_s,
+            partial: *partial,
+        }),
+        Err(RunError::FieldOutput {
+            step,
+            time_s,
+            message,
+            partial,
+        }) => Ok(RunEnded::OutputFailed {
+            step,
+            time_s,
+            message,
+            partial: *partial,
+        }),
+        Err(e) => Err(e),
+    }
 }
 
 /// As [`run_with_progress`]; with `fields`, the ParaView snapshots the scene declares

@@ -1,11 +1,13 @@
 //! `spectral SCENE.toml [--out DIR]`: checks everything first (the scene, the kernel fit, the
 //! budgets, the output folder), then runs the scene, writes CSV and prints where the outputs went.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, anyhow};
 use clap::Parser;
 use indicatif::{ProgressBar, ProgressStyle};
+use preflight::RunEnded;
+use preflight::command::{Prepared, StoppedEarly};
 
 /// Runs one scene with the spectral boundary-integral model of an interface between identical
 /// half-spaces and writes its records as CSV (tips, contact means, space-time fields). A run that
@@ -22,37 +24,28 @@ struct Cli {
 /// Prints an error with its causes on one line and exits 1: never a backtrace, whatever
 /// `RUST_BACKTRACE` says (it would bury the one line that says what to change).
 fn main() -> std::process::ExitCode {
-    match run() {
-        Ok(()) => std::process::ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e:#}");
-            std::process::ExitCode::FAILURE
-        }
-    }
+    preflight::command::exit(run())
 }
 
+/// Checks everything ([`preflight::command::prepare`]), runs the scene with a progress bar and
+/// writes what it computed; a run that stopped before T ends in an error saying why and where its
+/// output went.
 fn run() -> anyhow::Result<()> {
     let cli = Cli::parse();
     let scene_path = &cli.scene;
-    let text =
-        std::fs::read_to_string(scene_path).with_context(|| format!("reading {}", scene_path.display()))?;
-    let scene =
-        spectral::Scene::from_toml_str(&text).with_context(|| format!("scene {}", scene_path.display()))?;
-    let out_dir = cli.run.out_dir("spectral", scene_path).map_err(|e| anyhow!(e))?;
-    let estimate = spectral::estimate(&scene).with_context(|| format!("scene {}", scene_path.display()))?;
-    cli.run
-        .budget
-        .budget()
-        .check(&estimate)
-        .map_err(|e| anyhow!("scene {}: {e}", scene_path.display()))?;
-    preflight::paths::claim(&out_dir, "spectral").map_err(|e| anyhow!(e))?;
-    // one run per folder: an earlier run's files would stand beside this one's
-    let removed = spectral::output::clear_previous(&out_dir).with_context(|| {
-        format!(
-            "output folder {}: removing the previous run's files",
-            out_dir.display()
-        )
-    })?;
+    let Prepared {
+        scene,
+        estimate,
+        out_dir,
+        removed,
+    } = preflight::command::prepare(
+        "spectral",
+        scene_path,
+        &cli.run,
+        |text, _| spectral::Scene::from_toml_str(text),
+        spectral::estimate,
+        spectral::output::clear_previous,
+    )?;
     let stop = preflight::stop::on_signal().map_err(|e| anyhow!(e))?;
     for w in scene.warnings() {
         eprintln!("warning: {w}");
@@ -80,31 +73,46 @@ fn run() -> anyhow::Result<()> {
     );
     bar.finish();
     let wall = start.elapsed().as_secs_f64();
-    let (output, failure) = match result {
-        Ok(o) => (o, None),
-        Err(spectral::RunError::Unstable {
-            partial,
+    let ended = spectral::ended(result)?;
+    let why = why(&ended);
+    report(&ended.into_output(), &out_dir, wall)?;
+    match why {
+        Some(why) => Err(StoppedEarly { why, out_dir }.into()),
+        None => Ok(()),
+    }
+}
+
+/// Why a run stopped before T, as this command says it (`None`: it reached T).
+fn why(ended: &RunEnded<spectral::RunOutput>) -> Option<String> {
+    match ended {
+        RunEnded::Finished(_) => None,
+        RunEnded::Unstable {
             step,
             time_s,
             location,
-        }) => (
-            *partial,
-            Some(format!(
-                "unstable at step {step} (t = {time_s:e} s) at {location}"
-            )),
-        ),
-        Err(spectral::RunError::Interrupted {
-            partial,
+            ..
+        } => Some(format!(
+            "unstable at step {step} (t = {time_s:e} s) at {location}"
+        )),
+        RunEnded::Interrupted { step, time_s, .. } => {
+            Some(format!("stopped on request at step {step} (t = {time_s:e} s)"))
+        }
+        RunEnded::OutputFailed {
             step,
             time_s,
-        }) => (
-            *partial,
-            Some(format!("stopped on request at step {step} (t = {time_s:e} s)")),
-        ),
-        Err(e) => return Err(e.into()),
-    };
+            message,
+            ..
+        } => Some(format!(
+            "stopped at step {step} (t = {time_s:e} s): an output could not be written: {message}"
+        )),
+    }
+}
+
+/// Writes the run's records (complete or partial) and says what went where: the run's
+/// statistics over `wall` seconds, then one file a line.
+fn report(output: &spectral::RunOutput, out_dir: &Path, wall: f64) -> anyhow::Result<()> {
     let files =
-        spectral::write_csv(&output, &out_dir).with_context(|| format!("writing {}", out_dir.display()))?;
+        spectral::write_csv(output, out_dir).with_context(|| format!("writing {}", out_dir.display()))?;
     let s = output.stats;
     println!(
         "{} steps, N = {}, {:.2} s wall ({:.3} ms/step), {:.1} MB history streamed per step, {} exp terms",
@@ -117,9 +125,6 @@ fn run() -> anyhow::Result<()> {
     );
     for f in files {
         println!("{}", f.display());
-    }
-    if let Some(msg) = failure {
-        anyhow::bail!("{msg}; the output up to there is in {}", out_dir.display());
     }
     Ok(())
 }

@@ -1,0 +1,231 @@
+//! What the two models' command lines share around their run: the scene read and checked, the
+//! output folder claimed and emptied of an earlier run's files before the run, and the last line
+//! of a run that stopped before T.
+
+use crate::Estimate;
+use crate::options::RunOptions;
+use std::error::Error;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// A scene ready to run: read, within its budget, its output folder claimed and emptied.
+#[derive(Debug)]
+pub struct Prepared<S> {
+    /// The validated scene.
+    pub scene: S,
+    /// Its steps, memory and time.
+    pub estimate: Estimate,
+    /// The output folder.
+    pub out_dir: PathBuf,
+    /// How many files of an earlier run were removed from it.
+    pub removed: usize,
+}
+
+/// Why a command stops before its run; each names the file or folder and what to change.
+#[derive(Debug)]
+pub enum SetUpError {
+    /// The scene file cannot be read.
+    Read {
+        /// The scene file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The scene is invalid (or its model cannot be estimated).
+    Scene {
+        /// The scene file.
+        path: PathBuf,
+        /// The model's error.
+        source: Box<dyn Error + Send + Sync>,
+    },
+    /// The run is above its budget.
+    Budget {
+        /// The scene file.
+        path: PathBuf,
+        /// What is above the budget and the key or option to change.
+        message: String,
+    },
+    /// The output folder or the Ctrl-C handler is refused.
+    Refused(String),
+    /// An earlier run's files cannot be removed from the output folder.
+    Clear {
+        /// The output folder.
+        dir: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+}
+
+impl fmt::Display for SetUpError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SetUpError::Read { path, .. } => write!(f, "reading {}", path.display()),
+            SetUpError::Scene { path, .. } => write!(f, "scene {}", path.display()),
+            SetUpError::Budget { path, message } => write!(f, "scene {}: {message}", path.display()),
+            SetUpError::Refused(m) => write!(f, "{m}"),
+            SetUpError::Clear { dir, .. } => write!(
+                f,
+                "output folder {}: removing the previous run's files",
+                dir.display()
+            ),
+        }
+    }
+}
+
+impl Error for SetUpError {
+    fn source(&self) -> Option<&(dyn Error + 'static)> {
+        match self {
+            SetUpError::Read { source, .. } | SetUpError::Clear { source, .. } => Some(source),
+            SetUpError::Scene { source, .. } => Some(&**source),
+            SetUpError::Budget { .. } | SetUpError::Refused(_) => None,
+        }
+    }
+}
+
+/// Everything a command checks before its run, in this order, stopping at the first refusal:
+/// reads `scene_path`, validates it, chooses the output folder (`--out` or
+/// `out/<model>-<scene name>`), checks the estimate against the budget, claims the folder for
+/// `model` and removes an earlier run's files from it (one run per folder: they would stand
+/// beside this one's). The model's own steps: `read` the scene from its text and the scene file's
+/// folder (where relative paths in it start), `estimate` the run, `clear_previous` removes an
+/// earlier run's files from a folder and says how many.
+pub fn prepare<S, ReadErr, EstimateErr>(
+    model: &str,
+    scene_path: &Path,
+    options: &RunOptions,
+    read: impl FnOnce(&str, &Path) -> Result<S, ReadErr>,
+    estimate: impl FnOnce(&S) -> Result<Estimate, EstimateErr>,
+    clear_previous: impl FnOnce(&Path) -> std::io::Result<usize>,
+) -> Result<Prepared<S>, SetUpError>
+where
+    ReadErr: Error + Send + Sync + 'static,
+    EstimateErr: Error + Send + Sync + 'static,
+{
+    let invalid = |e: Box<dyn Error + Send + Sync>| SetUpError::Scene {
+        path: scene_path.to_path_buf(),
+        source: e,
+    };
+    let text = std::fs::read_to_string(scene_path).map_err(|source| SetUpError::Read {
+        path: scene_path.to_path_buf(),
+        source,
+    })?;
+    let dir = scene_path.parent().unwrap_or(Path::new("."));
+    let scene = read(&text, dir).map_err(|e| invalid(Box::new(e)))?;
+    let out_dir = options.out_dir(model, scene_path).map_err(SetUpError::Refused)?;
+    let estimate = estimate(&scene).map_err(|e| invalid(Box::new(e)))?;
+    options
+        .budget
+        .budget()
+        .check(&estimate)
+        .map_err(|message| SetUpError::Budget {
+            path: scene_path.to_path_buf(),
+            message,
+        })?;
+    crate::paths::claim(&out_dir, model).map_err(SetUpError::Refused)?;
+    let removed = clear_previous(&out_dir).map_err(|source| SetUpError::Clear {
+        dir: out_dir.clone(),
+        source,
+    })?;
+    Ok(Prepared {
+        scene,
+        estimate,
+        out_dir,
+        removed,
+    })
+}
+
+/// A run that stopped before T, as the command's last word: why (in the model's words), and
+/// where its output up to there went.
+#[derive(Debug)]
+pub struct StoppedEarly {
+    /// Why, with when (and where, for an unstable run).
+    pub why: String,
+    /// The output folder.
+    pub out_dir: PathBuf,
+}
+
+impl fmt::Display for StoppedEarly {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{}; the output up to there is in {}",
+            self.why,
+            self.out_dir.display()
+        )
+    }
+}
+
+impl Error for StoppedEarly {}
+
+/// The exit of a command: success, or the error with its causes on one line (`{:#}`) and exit
+/// status 1; never a backtrace, whatever `RUST_BACKTRACE` says (it would bury the one line that
+/// says what to change).
+pub fn exit<E: fmt::Display>(result: Result<(), E>) -> std::process::ExitCode {
+    match result {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn options(out: &Path) -> RunOptions {
+        RunOptions {
+            out: Some(out.to_path_buf()),
+            budget: crate::options::BudgetOptions {
+                max_memory: 1.0,
+                max_steps: 10,
+            },
+        }
+    }
+
+    fn costing(steps: u64) -> Estimate {
+        Estimate {
+            steps,
+            steps_keys: "k",
+            seconds: 1.0,
+            parts: Vec::new(),
+        }
+    }
+
+    /// A missing scene, an invalid one and one above the budget are each refused with the file
+    /// named first, the cause after it.
+    #[test]
+    fn refusals_name_the_scene_then_the_cause() {
+        let dir = std::env::temp_dir().join(format!("preflight-command-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let scene = dir.join("s.toml");
+        let out = dir.join("out");
+        let run = |n: u64| {
+            prepare(
+                "m",
+                &scene,
+                &options(&out),
+                |t: &str, _: &Path| t.parse::<u64>(),
+                move |_: &u64| Ok::<_, std::convert::Infallible>(costing(n)),
+                |_: &Path| Ok(2),
+            )
+        };
+        let missing = run(1).unwrap_err();
+        assert!(missing.to_string().starts_with("reading "), "{missing}");
+        assert!(missing.source().is_some());
+        std::fs::write(&scene, "x").unwrap();
+        let invalid = run(1).unwrap_err();
+        assert_eq!(invalid.to_string(), format!("scene {}", scene.display()));
+        assert_eq!(
+            invalid.source().unwrap().to_string(),
+            "invalid digit found in string"
+        );
+        std::fs::write(&scene, "7").unwrap();
+        let above = run(11).unwrap_err();
+        assert!(above.to_string().contains("above the budget of 10"), "{above}");
+        let ready = run(10).unwrap();
+        assert_eq!((ready.scene, ready.removed, ready.out_dir), (7, 2, out));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
