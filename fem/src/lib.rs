@@ -22,7 +22,7 @@
 //!
 //! # Public surface
 //! - running a scene: [`Scene`], [`estimate`], [`run`], [`run_with_progress`],
-//!   [`run_with_fields`];
+//!   [`run_with_fields`], and [`ended`] (how a run ended, as `preflight::RunEnded`);
 //! - stepping by hand: [`build`], [`build_with_row_map`], [`step`], [`Model`], [`State`],
 //!   [`Workspace`];
 //! - results: [`RunOutput`] and its records, [`write_csv`], [`ParaviewWriter`] (a
