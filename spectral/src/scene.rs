@@ -197,14 +197,14 @@ impl Scene {
     /// otherwise every problem found is reported at once (`SceneError::Invalid`), unknown keys
     /// included, each naming the key as written, its line in `text` and what is allowed.
     pub fn from_toml_str(text: &str) -> Result<Scene, SceneError> {
-        preflight::read(text, validate, SceneError::problems).map_err(SceneError::from)
+        preflight::read(text, validate::validate, SceneError::problems).map_err(SceneError::from)
     }
 
     /// The same scene with another edit of its raw form, validated again.
     fn variant(&self, edit: impl FnOnce(&mut RawScene)) -> Result<Scene, SceneError> {
         let mut raw = self.raw.clone();
         edit(&mut raw);
-        validate(raw)
+        validate::validate(raw)
     }
 
     /// The same scene with Coulomb coefficient μ [-] on contacting broken points.
@@ -299,7 +299,8 @@ impl Scene {
         let per_zone = self.process_zone() / self.grid_spacing();
         if per_zone < WARN_POINTS_PER_ZONE {
             w.push(format!(
-                "spectral.grid_points = {}: {per_zone:.2} points per process zone l_p = {:e} m                  (at least {WARN_POINTS_PER_ZONE} advised); tip positions and speeds are coarse",
+                "spectral.grid_points = {}: {per_zone:.2} points per process zone l_p = {:e} m \
+                 (at least {WARN_POINTS_PER_ZONE} advised); tip positions and speeds are coarse",
                 self.grid_points,
                 self.process_zone()
             ));
@@ -310,7 +311,8 @@ impl Scene {
             && self.length < WARN_LENGTH_OVER_A * a
         {
             w.push(format!(
-                "spectral.length = {} m = {:.1}a: the crack's periodic images are {:.1}a away and                  load its tips (the centre-crack case uses 30a)",
+                "spectral.length = {} m = {:.1}a: the crack's periodic images are {:.1}a away and \
+                 load its tips (the centre-crack case uses 30a)",
                 self.length,
                 self.length / a,
                 (self.length - 2.0 * a) / a
@@ -336,52 +338,6 @@ pub fn rayleigh_ratio(eta: f64) -> f64 {
     0.5 * (lo + hi)
 }
 
-/// Collects every problem of a scene instead of stopping at the first.
-#[derive(Default)]
-struct Problems(Vec<SceneError>);
-
-impl Problems {
-    /// `value` if finite and `ok`; otherwise records an out-of-range error for `key`.
-    fn num(&mut self, key: &str, value: f64, ok: bool, allowed: &str) -> Option<f64> {
-        if ok && value.is_finite() {
-            Some(value)
-        } else {
-            self.0.push(SceneError::OutOfRange {
-                field: key.to_string(),
-                value,
-                allowed: allowed.to_string(),
-            });
-            None
-        }
-    }
-
-    /// Records that `key` does not fit with the rest of the scene.
-    fn inconsistent(&mut self, key: &str, message: String) {
-        self.0.push(SceneError::Inconsistent {
-            key: key.to_string(),
-            message,
-        });
-    }
-
-    fn ramp(&mut self, key: &str, r: &Ramp, duration: f64) {
-        self.num(&format!("{key}.initial"), r.initial, true, "a finite stress [Pa]");
-        self.num(&format!("{key}.final"), r.r#final, true, "a finite stress [Pa]");
-        self.num(
-            &format!("{key}.ramp_start"),
-            r.ramp_start,
-            // equal values are a constant, which may start anywhere
-            r.ramp_start >= 0.0 && (r.ramp_start < duration || r.r#final == r.initial),
-            "[0, loading.duration) s: a ramp starting at or after T never reaches its final value",
-        );
-        self.num(
-            &format!("{key}.ramp_end"),
-            r.ramp_end,
-            r.ramp_end >= r.ramp_start,
-            ">= ramp_start [s]",
-        );
-    }
-}
-
 /// Grid points per process zone below which a run is refused (the zone falls between points).
 const MIN_POINTS_PER_ZONE: f64 = 1.0;
 /// Grid points per process zone below which a run is warned about.
@@ -389,238 +345,6 @@ const WARN_POINTS_PER_ZONE: f64 = 4.0;
 /// Periodic length over half-length below which the crack's periodic images are warned about
 /// (the centre-crack case uses 30).
 const WARN_LENGTH_OVER_A: f64 = 20.0;
-
-fn validate(r: RawScene) -> Result<Scene, SceneError> {
-    let raw = r.clone();
-    let mut p = Problems::default();
-    let m = &r.material;
-    let youngs = p.num(
-        "material.youngs_modulus",
-        m.youngs_modulus,
-        m.youngs_modulus > 0.0,
-        "> 0 Pa",
-    );
-    let nu = p.num(
-        "material.poisson_ratio",
-        m.poisson_ratio,
-        m.poisson_ratio > 0.0 && m.poisson_ratio < 0.5,
-        "(0, 0.5) (the kernels of the spectral model need ν > 0)",
-    );
-    let density = p.num("material.density", m.density, m.density > 0.0, "> 0 kg/m^3");
-    let i = &r.interface;
-    let sigma_c = p.num("interface.sigma_c", i.sigma_c, i.sigma_c > 0.0, "> 0 Pa");
-    let delta_c = p.num("interface.delta_c", i.delta_c, i.delta_c > 0.0, "> 0 m");
-    p.num("interface.beta", i.beta, i.beta > 0.0, "> 0");
-    p.num("interface.kappa", i.kappa, i.kappa > 0.0, "> 0");
-    let a = p.num(
-        "crack.half_length",
-        r.crack.half_length,
-        r.crack.half_length >= 0.0,
-        ">= 0 m",
-    );
-    p.num("crack.center_x", r.crack.center_x, true, "a finite position [m]");
-    let mu_f = r.friction.friction_coeff;
-    p.num(
-        "friction.friction_coeff",
-        mu_f,
-        (0.0..=10.0).contains(&mu_f),
-        "[0, 10]",
-    );
-    let contact_friction = match r.friction.contact_friction.as_deref() {
-        None | Some("all_faces") => ContactFriction::AllFaces,
-        Some("failed_only") => ContactFriction::FailedOnly,
-        Some(other) => {
-            p.inconsistent(
-                "friction.contact_friction",
-                format!("\"{other}\" is not allowed; allowed \"all_faces\" (default) or \"failed_only\""),
-            );
-            ContactFriction::AllFaces
-        }
-    };
-    let l = &r.loading;
-    let duration = p.num("loading.duration", l.duration, l.duration > 0.0, "> 0 s");
-    let t_end = duration.unwrap_or(f64::INFINITY);
-    p.ramp("loading.normal", &l.normal, t_end);
-    p.ramp("loading.shear", &l.shear, t_end);
-    let s = &r.spectral;
-    let length = p.num("spectral.length", s.length, s.length > 0.0, "> 0 m");
-    let n = s.grid_points;
-    let grid = p.num(
-        "spectral.grid_points",
-        n as f64,
-        (4..=(1 << 24)).contains(&n) && n % 2 == 0,
-        "an even integer in [4, 2^24]",
-    );
-    // c_s from the material, Δx from the grid: both needed by the step and the geometry checks
-    let cs = match (youngs, nu, density) {
-        (Some(e), Some(nu), Some(rho)) => Some((e / (2.0 * (1.0 + nu)) / rho).sqrt()),
-        _ => None,
-    };
-    let dx = length.zip(grid).map(|(x, n)| x / n);
-    let cfl = match (s.cs_dt_over_dx, s.time_step) {
-        (Some(b), None) => p.num(
-            "spectral.cs_dt_over_dx",
-            b,
-            b > 0.0 && b <= 0.5,
-            "(0, 0.5] (docs/spectral-model.md §7.8)",
-        ),
-        (None, Some(dt)) => match cs.zip(dx) {
-            Some((cs, dx)) => {
-                let b = dt * cs / dx;
-                p.num(
-                    "spectral.time_step",
-                    dt,
-                    b > 0.0 && b <= 0.5,
-                    &format!(
-                        "(0, {:e}] s, i.e. c_s dt/dx in (0, 0.5] (docs/spectral-model.md §7.8)",
-                        0.5 * dx / cs
-                    ),
-                )
-                .map(|_| b)
-            }
-            None => None,
-        },
-        (Some(_), Some(_)) => {
-            p.inconsistent(
-                "spectral.time_step",
-                "give cs_dt_over_dx [-] or time_step [s], not both".to_string(),
-            );
-            None
-        }
-        (None, None) => {
-            p.inconsistent(
-                "spectral",
-                "needs one of cs_dt_over_dx [-] or time_step [s]".to_string(),
-            );
-            None
-        }
-    };
-    p.num(
-        "spectral.kernel_cutoff",
-        s.kernel_cutoff,
-        s.kernel_cutoff > 0.0 && s.kernel_cutoff <= 1000.0,
-        "(0, 1000]",
-    );
-    p.num(
-        "spectral.t_star",
-        s.t_star,
-        s.t_star >= 0.0,
-        ">= 0 s (0: plain Coulomb)",
-    );
-    p.num(
-        "spectral.output_interval",
-        s.output_interval,
-        s.output_interval > 0.0 && s.output_interval <= t_end,
-        "(0, loading.duration] s",
-    );
-    if let Some(fi) = s.field_output_interval {
-        p.num(
-            "spectral.field_output_interval",
-            fi,
-            fi > 0.0 && fi <= t_end,
-            "(0, loading.duration] s",
-        );
-    }
-    let fast_tolerance = s.fast_tolerance.unwrap_or(DEFAULT_FAST_TOLERANCE);
-    p.num(
-        "spectral.fast_tolerance",
-        fast_tolerance,
-        (1e-10..=1e-2).contains(&fast_tolerance),
-        "[1e-10, 1e-2]",
-    );
-    let initial_interface = match s.initial_interface.as_deref() {
-        None | Some("pre_crack") => InitialInterface::PreCrack,
-        Some("broken") => InitialInterface::Broken,
-        Some(other) => {
-            p.inconsistent(
-                "spectral.initial_interface",
-                format!("\"{other}\" is not allowed; allowed \"pre_crack\" (default) or \"broken\""),
-            );
-            InitialInterface::PreCrack
-        }
-    };
-    if let (Some(x), Some(a), InitialInterface::PreCrack) = (length, a, initial_interface)
-        && 4.0 * a >= x
-    {
-        p.inconsistent(
-            "spectral.length",
-            format!(
-                "{x} m is at most twice the crack length 2a = {} m: the crack's periodic images                  would be closer than its own length; use a length of at least 4a (the                  centre-crack case uses 30a = {} m)",
-                2.0 * a,
-                30.0 * a
-            ),
-        );
-    }
-    if let (Some(nu), Some(x)) = (&s.nucleation, length) {
-        p.num(
-            "spectral.nucleation.shear",
-            nu.shear,
-            true,
-            "a finite stress [Pa]",
-        );
-        let hw = p.num(
-            "spectral.nucleation.half_width",
-            nu.half_width,
-            nu.half_width > 0.0,
-            "> 0 m",
-        );
-        let centre = r.crack.center_x;
-        p.num(
-            "spectral.nucleation.center",
-            nu.center,
-            (nu.center - centre).abs() + hw.unwrap_or(0.0) <= 0.5 * x,
-            &format!(
-                "within the periodic length: |center − crack.center_x| + half_width <= {} m",
-                0.5 * x
-            ),
-        );
-    }
-    if let (Some(e), Some(sc), Some(dc), Some(dx)) = (youngs, sigma_c, delta_c, dx) {
-        let lp = process_zone(e, sc, dc);
-        if lp / dx < MIN_POINTS_PER_ZONE {
-            p.inconsistent(
-                "spectral.grid_points",
-                format!(
-                    "{n} points give dx = {dx:e} m, larger than the process zone l_p = E δ_c/(2σ_c)                      = {lp:e} m: the cohesive zone falls between grid points; use at least {} points                      (l_p/dx >= {WARN_POINTS_PER_ZONE} is advised)",
-                    (WARN_POINTS_PER_ZONE * s.length / lp).ceil()
-                ),
-            );
-        }
-    }
-    let errors = p.0;
-    let (Some(cfl), true) = (cfl, errors.is_empty()) else {
-        return Err(collected(errors));
-    };
-    Ok(Scene {
-        youngs_modulus: m.youngs_modulus,
-        poisson_ratio: m.poisson_ratio,
-        density: m.density,
-        sigma_c: i.sigma_c,
-        delta_c: i.delta_c,
-        beta: i.beta,
-        kappa: i.kappa,
-        half_length: r.crack.half_length,
-        center_x: r.crack.center_x,
-        friction_coeff: mu_f,
-        contact_friction,
-        duration: l.duration,
-        normal: l.normal,
-        shear: l.shear,
-        length: s.length,
-        grid_points: n as usize,
-        cs_dt_over_dx: cfl,
-        kernel_cutoff: s.kernel_cutoff,
-        t_star: s.t_star,
-        output_interval: s.output_interval,
-        field_output_interval: s.field_output_interval,
-        convolution: s.convolution.unwrap_or(Convolution::Fast),
-        fast_tolerance,
-        contact: s.contact.unwrap_or(true),
-        nucleation: s.nucleation,
-        initial_interface,
-        raw,
-    })
-}
 
 /// The scene's name of a friction rule.
 pub fn contact_friction_name(rule: ContactFriction) -> &'static str {
@@ -648,3 +372,4 @@ fn collected(mut errors: Vec<SceneError>) -> SceneError {
 #[cfg(test)]
 #[path = "scene_tests.rs"]
 mod tests;
+mod validate;

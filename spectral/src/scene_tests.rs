@@ -112,3 +112,37 @@ fn the_friction_rule_is_a_key_of_the_shared_problem() {
         ContactFriction::AllFaces
     );
 }
+
+/// Every message about the geometry reads as one sentence: a line break in its source must not
+/// leave a run of blanks in the text the user sees.
+#[test]
+fn geometry_messages_have_no_runs_of_blanks() {
+    // a periodic length under 4a is refused; one under 20a, and a coarse grid, are warned about
+    let short = SCENE.replace("length = 3.75 ", "length = 0.4 ");
+    let err = Scene::from_toml_str(&short).unwrap_err().to_string();
+    assert!(
+        err.contains("spectral.length") && err.contains("at least 4a"),
+        "{err}"
+    );
+    assert!(!message(&err, "spectral.length").contains("  "), "{err}");
+    // two points per process zone over a length of 16a
+    let lp = Scene::from_toml_str(SCENE).unwrap().process_zone();
+    let n = 2 * ((2.0 * 2.0 / lp) / 2.0).round() as usize;
+    let coarse = SCENE
+        .replace("length = 3.75 ", "length = 2.0 ")
+        .replace("grid_points = 4096 ", &format!("grid_points = {n} "));
+    let warnings = Scene::from_toml_str(&coarse).unwrap().warnings();
+    assert_eq!(warnings.len(), 2, "{warnings:?}");
+    for w in &warnings {
+        assert!(!w.contains("  "), "{w}");
+    }
+    let coarser = SCENE.replace("grid_points = 4096 ", "grid_points = 64 ");
+    let err = Scene::from_toml_str(&coarser).unwrap_err().to_string();
+    assert!(err.contains("falls between grid points"), "{err}");
+    assert!(!message(&err, "spectral.grid_points").contains("  "), "{err}");
+}
+
+/// The line of a scene error that names `key`, without the indentation of the list.
+fn message<'e>(err: &'e str, key: &str) -> &'e str {
+    err.lines().find(|l| l.contains(key)).map_or("", str::trim_start)
+}
