@@ -194,3 +194,80 @@ pub fn run_gate(study: &Study, tol: &Tolerances, dir: &Path, rep: &dyn Reporter)
         warnings,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The colours of a PNG [RGB per pixel], read back.
+    fn pixels(path: &std::path::Path) -> Vec<[u8; 3]> {
+        let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+        let mut reader = decoder.read_info().unwrap();
+        let mut buf = vec![0; reader.output_buffer_size()];
+        let info = reader.next_frame(&mut buf).unwrap();
+        let channels = info.line_size / info.width as usize;
+        buf[..info.buffer_size()]
+            .chunks(channels)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect()
+    }
+
+    /// Every figure of the gate renders at the tiny centre crack (its FE run standing in for both
+    /// models' tips, which the figures draw alike): each PNG decodes, holds more than white and
+    /// the text's grey, and Figure 6b's first-slip line, the guide line the paper draws, has its
+    /// data, each point inside the pre-crack and within the run.
+    #[test]
+    fn every_gate_figure_renders_at_the_tiny_centre_crack() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../scenes/tiny-fem-center-crack.toml"
+        );
+        let scene = fem::Scene::from_toml_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let out = fem::run(&scene).unwrap();
+        let w = scene.wave_speeds();
+        let case = Case {
+            half_length: scene.half_length(),
+            center_x: scene.center_x(),
+            duration: scene.duration(),
+            cd: w.cd,
+            cr: w.cr,
+            normal_stress: scene.loading.normal.final_value,
+        };
+        let tips = crate::runner::fem_tips(&out);
+        let runs = [MuRuns {
+            mu: scene.friction_coeff,
+            fem: tips.clone(),
+            spectral: tips,
+        }];
+        let dir = std::env::temp_dir().join(format!("compare-gate-figures-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let mut files = figures::tip_figures(&dir, &case, &runs).unwrap();
+        files.extend(fem_figures::fem_figures(&dir, &case, &scene, &out).unwrap());
+        let pngs: Vec<_> = files
+            .iter()
+            .filter(|f| f.extension().is_some_and(|e| e == "png"))
+            .collect();
+        assert!(pngs.len() >= 10, "{files:?}");
+        for p in pngs {
+            // a colour that is neither white nor grey: a curve, a field or a mark was drawn
+            let coloured = pixels(p)
+                .iter()
+                .filter(|[r, g, b]| r.max(g).max(b) - r.min(g).min(b) > 40)
+                .count();
+            assert!(coloured > 500, "{}: {coloured} coloured pixels", p.display());
+        }
+        let slip = std::fs::read_to_string(dir.join("fig6b_first_slip.csv")).unwrap();
+        let rows: Vec<Vec<f64>> = slip
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+            .collect();
+        println!("fig6b first-slip line: {} nodes", rows.len());
+        assert!(!rows.is_empty(), "the stick-to-slip line has no point");
+        assert!(
+            rows.iter()
+                .all(|r| r[0].abs() < 1.0 && (0.0..=1.0).contains(&r[1]))
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -53,6 +53,47 @@ fn plot_height(width: u32, x: (f64, f64), y: (f64, f64)) -> u32 {
     h.clamp(250.0, 900.0) as u32
 }
 
+/// The y range [axis units] every column of cells covers from bottom to top: the highest of the
+/// columns' lowest edges to the lowest of their highest edges (`None` if they do not overlap).
+/// A window that cuts the rows of a mapped mesh leaves columns of uneven height; the map is drawn
+/// over the range they all cover, so that the field reaches the frame instead of a ragged white
+/// edge (the cells beyond are clipped by the frame).
+fn covered_y(cells: &[GridCell]) -> Option<(f64, f64)> {
+    // per column (the bits of its left edge, the same for every cell of a column): its lowest
+    // and highest edge
+    let mut columns = std::collections::BTreeMap::<u64, (f64, f64)>::new();
+    for c in cells {
+        let col = columns.entry(c.x.0.to_bits()).or_insert((c.y.0, c.y.1));
+        *col = (col.0.min(c.y.0), col.1.max(c.y.1));
+    }
+    let lo = columns.values().map(|c| c.0).fold(f64::MIN, f64::max);
+    let hi = columns.values().map(|c| c.1).fold(f64::MAX, f64::min);
+    (lo < hi).then_some((lo, hi))
+}
+
+/// The part of the segment a–b inside the box `xr` × `yr` (Liang–Barsky), `None` if none is.
+fn clip(a: (f64, f64), b: (f64, f64), xr: (f64, f64), yr: (f64, f64)) -> Option<((f64, f64), (f64, f64))> {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (p, q) in [
+        (-dx, a.0 - xr.0),
+        (dx, xr.1 - a.0),
+        (-dy, a.1 - yr.0),
+        (dy, yr.1 - a.1),
+    ] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return None;
+            }
+        } else if p < 0.0 {
+            t0 = t0.max(q / p);
+        } else {
+            t1 = t1.min(q / p);
+        }
+    }
+    (t0 <= t1).then(|| ((a.0 + t0 * dx, a.1 + t0 * dy), (a.0 + t1 * dx, a.1 + t1 * dy)))
+}
+
 /// Draws `map` with equal axis scales and a colour bar of `scale` to `path` (PNG).
 pub fn map_with_contours(path: &Path, labels: Labels, map: &Map, scale: &Scale) -> Result<()> {
     if map.cells.is_empty() {
@@ -65,7 +106,7 @@ pub fn map_with_contours(path: &Path, labels: Labels, map: &Map, scale: &Scale) 
             .map(f)
             .fold((f64::MAX, f64::MIN), |m, c| (m.0.min(c.0), m.1.max(c.1)))
     };
-    let (xr, yr) = (fold(|c| c.x), fold(|c| c.y));
+    let (xr, yr) = (fold(|c| c.x), covered_y(&map.cells).unwrap_or(fold(|c| c.y)));
     let plot_w = 1100;
     let size = (plot_w + 85 + 130 + 30, plot_height(plot_w, xr, yr) + 55 + 45 + 30);
     let root = BitMapBackend::new(path, size).into_drawing_area();
@@ -86,10 +127,13 @@ pub fn map_with_contours(path: &Path, labels: Labels, map: &Map, scale: &Scale) 
     }))?;
     for set in &map.contours {
         let color = set.color;
+        // plotters moves a point outside the axes onto the frame instead of cutting the line
+        // there, so the segments are cut at the frame first
         let anno = chart.draw_series(
             set.segments
                 .iter()
-                .map(|&(a, b)| PathElement::new(vec![a, b], color.stroke_width(1))),
+                .filter_map(|&(a, b)| clip(a, b, xr, yr))
+                .map(|(a, b)| PathElement::new(vec![a, b], color.stroke_width(1))),
         )?;
         if let Some(l) = &set.label {
             anno.label(l.clone())
@@ -97,7 +141,9 @@ pub fn map_with_contours(path: &Path, labels: Labels, map: &Map, scale: &Scale) 
         }
     }
     draw_curves(&mut chart, &map.lines)?;
-    draw_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
+    if !map.lines.is_empty() || map.contours.iter().any(|c| c.label.is_some()) {
+        draw_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
+    }
     draw_colour_bar(&bar, scale, |v| diverging(v, scale))?;
     root.present()
         .with_context(|| format!("writing {}", path.display()))
@@ -146,7 +192,8 @@ mod tests {
     }
 
     /// The picture itself: circles r² = x² + y² = 0.0625, 0.25, 0.5 on a grid whose window cuts
-    /// the top rows on the right, as a snapshot window cuts a mapped mesh. Every dark pixel drawn
+    /// the top rows on the right, as a snapshot window cuts a mapped mesh. The field fills the
+    /// frame (no white left inside it), and every dark pixel drawn
     /// where the field is sampled must lie on one of those circles (within 1.5 grid steps: the
     /// iso-lines are traced linearly between centroids). Before the fix of
     /// `CentroidGrid::contour`, segments ending on the edge of a cell with a missing corner got a
@@ -206,9 +253,10 @@ mod tests {
             .collect();
         let (i0, i1) = red.iter().fold((w, 0), |m, p| (m.0.min(p.0), m.1.max(p.0)));
         let (j0, j1) = red.iter().fold((h, 0), |m, p| (m.0.min(p.1), m.1.max(p.1)));
+        // the map is drawn over the y range every column covers: up to the cut rows' edge
         let (xr, yr) = (
             (-1.0 - 0.5 * step, 1.0 + 0.5 * step),
-            (-0.5 - 0.5 * step, 0.5 + 0.5 * step),
+            (-0.5 - 0.5 * step, 0.425 + 0.5 * step),
         );
         let at = |i: usize, j: usize| {
             (
@@ -234,10 +282,21 @@ mod tests {
                 }
             }
         }
+        // the field reaches the frame: no pixel of the plot area is left white (the cells'
+        // lightest colour is the scale's middle grey, 242); before the map was drawn over the
+        // covered range, the cut rows left a white band along the top on the right
+        let white = (i0 + 2..i1 - 1)
+            .flat_map(|i| (j0 + 2..j1 - 1).map(move |j| (i, j)))
+            .filter(|&(i, j)| {
+                let (r, g, b) = rgb(i, j);
+                r.min(g).min(b) >= 250
+            })
+            .count();
         println!(
-            "{dark} dark pixels in the sampled plot area, {} off every iso-line",
+            "{dark} dark pixels in the sampled plot area, {} off every iso-line; {white} white",
             astray.len()
         );
+        assert_eq!(white, 0, "the map leaves white inside its frame");
         assert!(dark > 500, "the iso-lines are drawn");
         assert!(
             astray.is_empty(),
@@ -245,6 +304,20 @@ mod tests {
             &astray[..astray.len().min(5)]
         );
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn segments_are_cut_at_the_frame() {
+        let (xr, yr) = ((0.0, 1.0), (0.0, 1.0));
+        // inside: unchanged; across the top: cut at y = 1; outside: gone
+        assert_eq!(
+            clip((0.2, 0.2), (0.4, 0.6), xr, yr),
+            Some(((0.2, 0.2), (0.4, 0.6)))
+        );
+        let ((_, _), (x, y)) = clip((0.5, 0.5), (0.5, 1.5), xr, yr).unwrap();
+        assert_eq!((x, y), (0.5, 1.0));
+        assert_eq!(clip((0.2, 1.2), (0.8, 1.4), xr, yr), None);
+        assert_eq!(clip((-1.0, 0.5), (-0.5, 0.5), xr, yr), None);
     }
 
     #[test]
