@@ -80,6 +80,55 @@ fn plan(study: &Study) -> Result<Vec<MuPlan>> {
         .collect()
 }
 
+/// One task per run of `plans`, each writing into its folder of `dir`. Every run is independent
+/// (the spectral model takes the FE step from the scene, not from the FE run): the FE runs come
+/// first, as the longest, then the spectral ones.
+fn run_tasks<'a>(plans: &'a [MuPlan], dir: &Path, rep: &'a dyn Reporter) -> Vec<Task<'a, Ran>> {
+    let labels: Vec<(String, String)> = plans
+        .iter()
+        .map(|p| {
+            (
+                format!("FE        μ = {}", p.mu),
+                format!("spectral  μ = {}", p.mu),
+            )
+        })
+        .collect();
+    let dirs: Vec<(PathBuf, PathBuf)> = plans
+        .iter()
+        .map(|p| {
+            let tag = mu_tag(p.mu);
+            (
+                dir.join(format!("fem_mu{tag}")),
+                dir.join(format!("spectral_mu{tag}")),
+            )
+        })
+        .collect();
+    let mut tasks: Vec<Task<Ran>> = Vec::new();
+    for ((p, (fem_label, _)), (fem_dir, _)) in plans.iter().zip(labels.clone()).zip(dirs.clone()) {
+        tasks.push(Box::new(move || {
+            let job = Job {
+                scene: &p.fem,
+                label: &fem_label,
+                dir: &fem_dir,
+                keep: Keep::Everything,
+            };
+            Ok(Ran::Fem(Box::new(run_fem(job, rep)?)))
+        }));
+    }
+    for ((p, (_, spectral_label)), (_, spectral_dir)) in plans.iter().zip(labels).zip(dirs) {
+        tasks.push(Box::new(move || {
+            let job = Job {
+                scene: &p.spectral,
+                label: &spectral_label,
+                dir: &spectral_dir,
+                keep: Keep::Everything,
+            };
+            Ok(Ran::Spectral(Box::new(run_spectral(job, rep)?)))
+        }));
+    }
+    tasks
+}
+
 /// Runs the comparison of `study` against the tolerances `tol`, writing everything into `dir`.
 /// Every scene is validated before the first run; an unstable run stops the comparison with its
 /// partial output kept.
@@ -104,50 +153,7 @@ pub fn run_gate(study: &Study, tol: &Tolerances, dir: &Path, rep: &dyn Reporter)
     rep.planned(&preflight(study, &fems, &spectrals, dir)?.with_lanes(lanes));
     let case = study.case();
     let mu_detail = plans.iter().map(|p| p.mu).fold(f64::MIN, f64::max);
-    // Every run is independent (the spectral model takes the FE step from the scene, not from
-    // the FE run): the FE runs first, as the longest, then the spectral ones.
-    let labels: Vec<(String, String)> = plans
-        .iter()
-        .map(|p| {
-            (
-                format!("FE        μ = {}", p.mu),
-                format!("spectral  μ = {}", p.mu),
-            )
-        })
-        .collect();
-    let dirs: Vec<(PathBuf, PathBuf)> = plans
-        .iter()
-        .map(|p| {
-            let tag = mu_tag(p.mu);
-            (
-                dir.join(format!("fem_mu{tag}")),
-                dir.join(format!("spectral_mu{tag}")),
-            )
-        })
-        .collect();
-    let mut tasks: Vec<Task<Ran>> = Vec::new();
-    for ((p, (fem_label, _)), (fem_dir, _)) in plans.iter().zip(&labels).zip(&dirs) {
-        tasks.push(Box::new(move || {
-            let job = Job {
-                scene: &p.fem,
-                label: fem_label,
-                dir: fem_dir,
-                keep: Keep::Everything,
-            };
-            Ok(Ran::Fem(Box::new(run_fem(job, rep)?)))
-        }));
-    }
-    for ((p, (_, spectral_label)), (_, spectral_dir)) in plans.iter().zip(&labels).zip(&dirs) {
-        tasks.push(Box::new(move || {
-            let job = Job {
-                scene: &p.spectral,
-                label: spectral_label,
-                dir: spectral_dir,
-                keep: Keep::Everything,
-            };
-            Ok(Ran::Spectral(Box::new(run_spectral(job, rep)?)))
-        }));
-    }
+    let tasks = run_tasks(&plans, dir, rep);
     let mut ran = Vec::new();
     for r in concurrent::run_all(tasks, lanes)? {
         match r {
