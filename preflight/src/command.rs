@@ -21,6 +21,21 @@ pub struct Prepared<S> {
     pub removed: usize,
 }
 
+impl<S> Prepared<S> {
+    /// The line before the run: the scene file, the estimate, the time step `time_step` [s], the
+    /// output folder and how many files of an earlier run were removed from it.
+    pub fn announce(&self, scene_path: &Path, time_step: f64) {
+        println!(
+            "{}: {} (dt = {:.4e} s); output in {}{}",
+            scene_path.display(),
+            self.estimate.summary(),
+            time_step,
+            self.out_dir.display(),
+            crate::paths::removed_note(self.removed)
+        );
+    }
+}
+
 /// Why a command stops before its run; each names the file or folder and what to change.
 #[derive(Debug)]
 pub enum SetUpError {

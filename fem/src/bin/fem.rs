@@ -34,12 +34,7 @@ fn main() -> std::process::ExitCode {
 /// output went.
 fn run() -> anyhow::Result<()> {
     let cli = Cli::parse();
-    let Prepared {
-        scene,
-        estimate,
-        out_dir,
-        removed,
-    } = preflight::command::prepare(
+    let prepared = preflight::command::prepare(
         "fem",
         &cli.scene,
         &cli.run,
@@ -47,15 +42,22 @@ fn run() -> anyhow::Result<()> {
         |scene| Ok::<_, Infallible>(fem::estimate(scene)),
         fem::output::clear_previous,
     )?;
-    let mut fields = match scene.fem.paraview {
+    let mut fields = match prepared.scene.fem.paraview {
         Some(_) => Some(
-            fem::ParaviewWriter::new(&out_dir, estimate.steps)
-                .with_context(|| format!("output folder {}: fields/", out_dir.display()))?,
+            fem::ParaviewWriter::new(&prepared.out_dir, prepared.estimate.steps)
+                .with_context(|| format!("output folder {}: fields/", prepared.out_dir.display()))?,
         ),
         None => None,
     };
     let stop = preflight::stop::on_signal().map_err(|e| anyhow!(e))?;
-    announce(&cli.scene, &scene, &estimate, &out_dir, removed);
+    prepared.announce(&cli.scene, prepared.scene.time_step());
+    let Prepared {
+        scene,
+        estimate,
+        out_dir,
+        ..
+    } = prepared;
+    announce_fields(&scene, &out_dir);
     let bar = ProgressBar::new(estimate.steps);
     bar.set_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} steps {elapsed_precise} eta {eta}")
@@ -81,23 +83,8 @@ fn run() -> anyhow::Result<()> {
     }
 }
 
-/// The lines before the run: the estimate, the time step, the output folder (and the files of an
-/// earlier run removed from it), and the ParaView snapshots to come.
-fn announce(
-    scene_path: &Path,
-    scene: &fem::Scene,
-    estimate: &preflight::Estimate,
-    out_dir: &Path,
-    removed: usize,
-) {
-    println!(
-        "{}: {} (dt = {:.4e} s); output in {}{}",
-        scene_path.display(),
-        estimate.summary(),
-        scene.time_step(),
-        out_dir.display(),
-        preflight::paths::removed_note(removed)
-    );
+/// The line before the run on the ParaView snapshots to come (none without `[fem.paraview]`).
+fn announce_fields(scene: &fem::Scene, out_dir: &Path) {
     if let (Some(p), Some((count, each))) = (scene.fem.paraview, fem::solver::estimate::field_files(scene)) {
         println!(
             "ParaView: {count} snapshots, one every {} steps, about {} each ({} in all), in {}",

@@ -33,12 +33,7 @@ fn main() -> std::process::ExitCode {
 fn run() -> anyhow::Result<()> {
     let cli = Cli::parse();
     let scene_path = &cli.scene;
-    let Prepared {
-        scene,
-        estimate,
-        out_dir,
-        removed,
-    } = preflight::command::prepare(
+    let prepared = preflight::command::prepare(
         "spectral",
         scene_path,
         &cli.run,
@@ -47,17 +42,16 @@ fn run() -> anyhow::Result<()> {
         spectral::output::clear_previous,
     )?;
     let stop = preflight::stop::on_signal().map_err(|e| anyhow!(e))?;
-    for w in scene.warnings() {
+    for w in prepared.scene.warnings() {
         eprintln!("warning: {w}");
     }
-    println!(
-        "{}: {} (dt = {:.4e} s); output in {}{}",
-        scene_path.display(),
-        estimate.summary(),
-        scene.time_step(),
-        out_dir.display(),
-        preflight::paths::removed_note(removed)
-    );
+    prepared.announce(scene_path, prepared.scene.time_step());
+    let Prepared {
+        scene,
+        estimate,
+        out_dir,
+        ..
+    } = prepared;
     let bar = ProgressBar::new(estimate.steps);
     bar.set_style(ProgressStyle::with_template(
         "{bar:40} {pos}/{len} steps {elapsed_precise} eta {eta}",
