@@ -126,6 +126,18 @@ pub enum BuildError {
         /// y of the junction [m].
         y: f64,
     },
+    /// An absorbing boundary part runs through a junction of interfaces.
+    #[error(
+        "an absorbing boundary part (fem.boundary.NAME.absorbing) runs through the junction of interfaces at \
+         ({x}, {y}) m; a junction's copies are tied as a group that a dashpot does not carry: end the \
+         absorbing part before it"
+    )]
+    AbsorbingJunction {
+        /// x of the junction [m].
+        x: f64,
+        /// y of the junction [m].
+        y: f64,
+    },
     /// The unstructured kernel cannot be built on the scene's Gmsh mesh.
     #[error("the mesh of fem.mesh.file: {0}")]
     Mesh(#[from] UnstructuredError),

@@ -83,7 +83,8 @@ pub struct BoundaryRecord {
     /// Total force on the part's nodes [N/m]: on a component a displacement holds, the static
     /// reaction R = −f (the force the support applies against the internal, cohesive and contact
     /// forces of the node; its own inertia m ā is not in it); on a loaded component, the applied
-    /// traction, force or pressure. A node and component held by two parts counts for the last.
+    /// traction, force or pressure; on an absorbing part, plus its dashpots' forces −C v. A node
+    /// and component held by two parts counts for the last.
     pub fx: f64,
     /// Total force on the part's nodes [N/m] (as `fx`).
     pub fy: f64,
@@ -166,9 +167,11 @@ pub struct EnergyRecord {
     /// slaves in contact [J/m], from the penetrations and tractions (not from the applied forces).
     /// Frictionless contact is conservative: W_con + E_stored = 0 at every sample.
     pub contact_stored: f64,
-    /// Work of the boundary forces W_ext [J/m].
+    /// Work of the boundary forces W_ext [J/m] (loads and supports; not the dashpots).
     pub boundary_work: f64,
-    /// Residual W_ext + W_con − (E_kin + E_strain + E_coh,tot + E_damp) [J/m].
+    /// E_abs: work taken out by the dashpots of absorbing boundaries (≥ 0) [J/m].
+    pub absorbed_work: f64,
+    /// Residual W_ext + W_con − (E_kin + E_strain + E_coh,tot + E_damp + E_abs) [J/m].
     pub residual: f64,
 }
 

@@ -662,3 +662,34 @@ fn a_pressure_pushes_into_the_body_on_every_side() {
         }
     }
 }
+
+/// The dashpots of an absorbing side: ρc_d on the side's normal and ρc_s along it, times each
+/// node's tributary length, summing to the side's length; a curve inside the body is refused as
+/// for a pressure. A normal and tangent swapped, or a missing half length, would show at once.
+#[test]
+fn a_dashpot_has_the_normal_impedance_on_the_normal() {
+    let (zd, zs) = (3.0, 1.0);
+    for name in ["rect_tri.msh", "rect_quad.msh", "rect_mixed.msh"] {
+        let mesh = read(name);
+        for (side, normal_x, length) in [("bottom", false, 2.0), ("right", true, 1.0), ("top", false, 2.0)] {
+            let (nodes, c) = mesh.dashpot_weights(side, &|_| (zd, zs)).unwrap();
+            assert_eq!(nodes.len(), c.len());
+            let mut total = 0.0;
+            for [xx, xy, yy] in &c {
+                let w = (xx + yy) / (zd + zs);
+                let (cn, ct) = if normal_x { (xx, yy) } else { (yy, xx) };
+                assert!(
+                    (cn - zd * w).abs() <= 1e-14 && (ct - zs * w).abs() <= 1e-14,
+                    "{name} {side}"
+                );
+                assert!(xy.abs() <= 1e-14, "{name} {side}: {xy}");
+                total += w;
+            }
+            assert!((total - length).abs() <= 1e-12, "{name} {side}: {total}");
+        }
+        assert!(matches!(
+            mesh.dashpot_weights("interface", &|_| (zd, zs)),
+            Err(MeshError::NotOuter { elements: 2, .. })
+        ));
+    }
+}

@@ -900,7 +900,7 @@ fn keys_that_would_do_nothing_or_harm_are_refused() {
         (
             format!("{bend}\n[fem.boundary.notch_tip]\n"),
             "fem.boundary.notch_tip:",
-            "no x, y or pressure",
+            "no x, y, pressure or absorbing",
         ),
         (
             bend.replace(
@@ -984,4 +984,69 @@ fn keys_that_would_do_nothing_or_harm_are_refused() {
     );
     assert_ne!(held, bend);
     assert!(Scene::from_toml_str_in(&held, &dir).is_ok());
+}
+
+/// `absorbing = true` on a mesh curve lets a wave out as on a grid side: the P pulse of the
+/// triangle plate leaves through its right curve, and what the left side put in is absorbed once it
+/// has (the grid's share is 0.99997 in the validation test `fem_absorbing`; the same bound as
+/// there, 0.99, and the balance at the end within 1e-3 of W_ext). With the right curve free the
+/// pulse stays in the plate. Absorbing is refused where it cannot act, naming the key: on a part
+/// whose displacement is imposed, on a physical point (a dashpot needs a length), on a curve
+/// inside the body (no outward side).
+#[test]
+fn a_mesh_curve_absorbs_and_absorbing_is_refused_where_it_cannot_act() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+    let plate = scene_text("tiny-fem-plate-tri").replace("duration = 7e-4 ", "duration = 1e-3 ");
+    let run = |text: &str| fem::run(&Scene::from_toml_str_in(text, &dir).unwrap()).unwrap();
+    let absorbed = run(&format!("{plate}\n[fem.boundary.right]\nabsorbing = true\n"));
+    let free = run(&plate);
+    let share = |out: &fem::RunOutput| {
+        let e = out.energy.last().unwrap();
+        (
+            e.absorbed_work / e.boundary_work,
+            e.residual.abs() / e.boundary_work,
+        )
+    };
+    let ((a, residual), (f, _)) = (share(&absorbed), share(&free));
+    println!(
+        "triangle plate: absorbed share {a:.5}, |residual|/W_ext {residual:.2e}; free right curve {f:.3}"
+    );
+    assert!(a > 0.99 && residual < 1e-3 && f == 0.0);
+    let right = absorbed.boundary_parts.iter().position(|p| p == "right").unwrap();
+    assert!(
+        absorbed
+            .boundary
+            .iter()
+            .any(|r| r.part as usize == right && r.fx < 0.0),
+        "boundary.csv books the dashpots' force on their part"
+    );
+
+    let refused = |text: &str, key: &str, why: &str| {
+        let e = Scene::from_toml_str_in(text, &dir).unwrap_err().to_string();
+        assert!(e.contains(key) && e.contains(why), "{e}");
+    };
+    let grid = scene_text("tiny-fem-plate");
+    refused(
+        &grid.replace("[fem.boundary.left]\n", "[fem.boundary.left]\nabsorbing = true\n"),
+        "fem.boundary.left.absorbing",
+        "cannot let waves out",
+    );
+    let beam = scene_text("tiny-fem-beam-bending");
+    let load = "[fem.boundary.load]";
+    assert!(beam.contains(load));
+    refused(
+        &beam.replacen(load, "[fem.boundary.load]\nabsorbing = true\n#", 1),
+        "fem.boundary.load.absorbing",
+        "physical point",
+    );
+    refused(
+        &(scene_text("tiny-fem-bimaterial") + "\n[fem.boundary.joint]\nabsorbing = true\n"),
+        "fem.boundary.joint.absorbing",
+        "outer boundary",
+    );
+    refused(
+        &(grid + "\n[fem.boundary.right]\nabsorbing = false\n"),
+        "fem.boundary.right",
+        "no x, y, pressure or absorbing",
+    );
 }

@@ -1,5 +1,5 @@
 //! Energy record and balance residual (docs/fem-model.md §8.3):
-//! W_ext + W_con = E_kin + E_strain + E_coh,tot + E_damp up to O(Δt²).
+//! W_ext + W_con = E_kin + E_strain + E_coh,tot + E_damp + E_abs up to O(Δt²).
 
 use crate::model::cohesive::reversible_energy;
 use crate::model::state::{Model, State, Workspace};
@@ -16,7 +16,8 @@ pub(crate) fn record(model: &Model, state: &State, ws: &Workspace) -> EnergyReco
     let kinetic = kinetic(model, state);
     let strain = ws.strain_energy;
     let rev = reversible_energy(model, &state.facets);
-    let residual = e.boundary_work + e.contact_work - (kinetic + strain + e.cohesive_total + e.damping);
+    let residual =
+        e.boundary_work + e.contact_work - (kinetic + strain + e.cohesive_total + e.damping + e.absorbed);
     EnergyRecord {
         t: state.t,
         contact_stored: contact_stored(model, state),
@@ -28,6 +29,7 @@ pub(crate) fn record(model: &Model, state: &State, ws: &Workspace) -> EnergyReco
         damping_removed: e.damping,
         contact_work: e.contact_work,
         boundary_work: e.boundary_work,
+        absorbed_work: e.absorbed,
         residual,
     }
 }

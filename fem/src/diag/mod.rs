@@ -54,7 +54,8 @@ impl Observer for Recorder<'_> {
 }
 
 /// One record per part of `[fem.boundary]`: the mean displacement of its nodes and the sum of the
-/// reactions and loads of the DOFs it holds or loads, each summed in the DOFs' fixed order.
+/// reactions and loads of the DOFs it holds or loads and of its dashpots' forces, each summed in
+/// the DOFs' fixed order.
 fn boundary_records(model: &Model, state: &State, out: &mut Vec<BoundaryRecord>) {
     let parts = &model.boundary.parts;
     let first = out.len();
@@ -91,6 +92,10 @@ fn boundary_records(model: &Model, state: &State, out: &mut Vec<BoundaryRecord>)
         .zip(&state.neumann_f)
     {
         add(part, p.dof, f);
+    }
+    for (d, f) in model.boundary.dashpots.iter().zip(&state.dashpot_f) {
+        add(d.part, 0, f.x);
+        add(d.part, 1, f.y);
     }
 }
 

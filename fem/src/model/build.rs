@@ -11,7 +11,7 @@ use crate::model::face_stress::FaceStress;
 use crate::model::loading;
 use crate::model::mapped::{GaussShape, MappedStiffness, Trapezoid};
 use crate::model::state::{
-    Boundary, BoundaryDof, Bulk, BulkMesh, ContactPart, Damping, ElementNodes, EnergyTotals, Facets,
+    Boundary, BoundaryDof, Bulk, BulkMesh, ContactPart, Damping, Dashpot, ElementNodes, EnergyTotals, Facets,
     GmshBulk, Interface, Model, Observed, State, Workspace,
 };
 use crate::model::unstructured::{BulkMaterial, UnstructuredBulk};
@@ -118,6 +118,48 @@ fn held_twins(
         .collect()
 }
 
+/// The dashpots with, for each node of the interface row among them, its twin (a dashpot of
+/// zero, if the absorbing part does not hold it): while the pair is tied, the pair moves as one
+/// node under the sum of both dashpots. An absorbing part through a junction is refused.
+fn with_twins(
+    mut dashpots: Vec<Dashpot>,
+    iface: Option<&InterfaceRow>,
+    x0: &[Vector2<f64>],
+) -> Result<Vec<Dashpot>, BuildError> {
+    let Some(row) = iface else { return Ok(dashpots) };
+    if dashpots.is_empty() {
+        return Ok(dashpots);
+    }
+    let has = |d: &[Dashpot], n: u32| d.binary_search_by_key(&n, |d| d.node).is_ok();
+    for i in 0..row.minus.len() {
+        let (m, p) = (row.minus[i], row.plus[i]);
+        if m == p || !(has(&dashpots, m) || has(&dashpots, p)) {
+            continue;
+        }
+        if row.col_junction[i] != NO_JUNCTION {
+            let x = x0[m as usize];
+            return Err(BuildError::AbsorbingJunction { x: x.x, y: x.y });
+        }
+        let part = dashpots
+            .iter()
+            .find(|d| d.node == m || d.node == p)
+            .map_or(0, |d| d.part);
+        for n in [m, p] {
+            if let Err(k) = dashpots.binary_search_by_key(&n, |d| d.node) {
+                dashpots.insert(
+                    k,
+                    Dashpot {
+                        node: n,
+                        c: [0.0; 3],
+                        part,
+                    },
+                );
+            }
+        }
+    }
+    Ok(dashpots)
+}
+
 /// A support on a copy of a junction is refused: its tie group would not follow the support
 /// (a held twin pair is supported by [`held_twins`]; a group of k ≥ 2 copies is not).
 fn held_junction(
@@ -157,10 +199,24 @@ pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State,
         held_junction(row, &bd.prescribed, &x0)?;
     }
     let held_twins = held_twins(&bd.prescribed, &fixed_dof, iface.as_ref());
+    let dashpots = with_twins(bd.dashpots, iface.as_ref(), &x0)?;
+    let mut dashpot_of = Vec::new();
+    if !dashpots.is_empty() {
+        dashpot_of = vec![u32::MAX; x0.len()];
+        for (k, d) in dashpots.iter().enumerate() {
+            dashpot_of[d.node as usize] = k as u32;
+        }
+    }
     // the layers the grid's one-pass sweep leaves to the corrector (a Gmsh mesh has no sweep)
     let deferred = match &mesh {
         BulkMesh::Grid { grid, .. } => {
-            let neumann_nodes: Vec<u32> = bd.neumann.iter().map(|p| p.node).collect();
+            // a dashpot's force, like a load, is added before the corrector
+            let neumann_nodes: Vec<u32> = bd
+                .neumann
+                .iter()
+                .map(|p| p.node)
+                .chain(dashpots.iter().map(|d| d.node))
+                .collect();
             crate::model::layers::deferred_layers(grid, &fixed_dof, &neumann_nodes)
         }
         BulkMesh::Gmsh(_) => Vec::new(),
@@ -188,6 +244,8 @@ pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State,
             fixed_dof,
             held_twins,
             lateral_contraction: f.lateral_contraction,
+            dashpots,
+            dashpot_of,
         },
         damping: Damping {
             set: f.damping.set,
@@ -488,6 +546,7 @@ fn initial_state(model: &Model) -> State {
         presc_v: vec![0.0; model.boundary.prescribed.len()],
         presc_r: vec![0.0; model.boundary.prescribed.len()],
         neumann_f: vec![0.0; model.boundary.neumann.len()],
+        dashpot_f: vec![Vector2::zeros(); model.boundary.dashpots.len()],
     }
 }
 

@@ -2,19 +2,23 @@
 //! lateral-contraction term of docs/cases.md) on the whole outer boundary, or side-wise uniform
 //! displacements/tractions (`[fem.boundary]`), all through the ramp of eq. (B.1).
 
+use crate::law::elastic::PlaneStrain;
 use crate::mesh::prepared::PreparedMesh;
 use crate::mesh::structured::{Grid, LayerSide};
-use crate::model::state::{BoundaryDof, BoundaryParts};
+use crate::model::state::{BoundaryDof, BoundaryParts, Dashpot};
 use crate::scene::{BoundaryKind, BoundarySpec, GRID_SIDES, Ramp, Scene};
 use nalgebra::{Complex, Vector2};
 use std::collections::HashMap;
 
-/// Boundary data: ramps, prescribed DOFs, Neumann DOFs (nodal forces [N/m]) and, with
-/// `[fem.boundary]`, its parts (sides, curves, points) and which part each DOF belongs to.
+/// Boundary data: ramps, prescribed DOFs, Neumann DOFs (nodal forces [N/m]), the dashpots of
+/// absorbing parts and, with `[fem.boundary]`, its parts (sides, curves, points) and which part
+/// each DOF belongs to.
 pub(crate) struct BoundaryData {
     pub ramps: Vec<Ramp>,
     pub prescribed: Vec<BoundaryDof>,
     pub neumann: Vec<BoundaryDof>,
+    /// One per node of an absorbing part, by node id; held components are left out.
+    pub dashpots: Vec<Dashpot>,
     pub parts: BoundaryParts,
 }
 
@@ -63,7 +67,7 @@ pub(crate) fn westergaard_unit(
 /// Builds the boundary data of a scene on a grid.
 pub(crate) fn boundary(scene: &Scene, grid: &Grid) -> BoundaryData {
     match &scene.fem.boundary {
-        Some(b) => sidewise_grid(b, grid),
+        Some(b) => sidewise_grid(b, grid, &scene.material),
         None => westergaard(scene, grid),
     }
 }
@@ -109,6 +113,7 @@ fn westergaard_on(scene: &Scene, nodes: impl Iterator<Item = (usize, Vector2<f64
         ramps,
         prescribed,
         neumann: Vec::new(),
+        dashpots: Vec::new(),
         parts: BoundaryParts::default(),
     }
 }
@@ -119,6 +124,14 @@ pub(crate) fn boundary_on_mesh(scene: &Scene, mesh: &PreparedMesh) -> BoundaryDa
     match &scene.fem.boundary {
         Some(b) => {
             const CHECKED: &str = "invariant: the scene's boundary curves were checked against the mesh";
+            let materials = scene.materials();
+            let element_material = scene
+                .fem
+                .mesh
+                .as_ref()
+                .map_or(&[][..], |m| &m.element_material[..]);
+            let impedance =
+                |e: usize| impedance(&materials[element_material.get(e).copied().unwrap_or(0) as usize]);
             let curves: Vec<_> = b
                 .curves
                 .iter()
@@ -128,10 +141,15 @@ pub(crate) fn boundary_on_mesh(scene: &Scene, mesh: &PreparedMesh) -> BoundaryDa
                         Some(_) => mesh.mesh.pressure_weights(&c.name).expect(CHECKED).1,
                         None => Vec::new(),
                     };
+                    let dashpots = match c.absorbing {
+                        true => mesh.mesh.dashpot_weights(&c.name, &impedance).expect(CHECKED).1,
+                        false => Vec::new(),
+                    };
                     CurveNodes {
                         nodes: part.nodes,
                         tributary: part.weight,
                         pressure: pressure.iter().map(|w| [w.x, w.y]).collect(),
+                        dashpots,
                     }
                 })
                 .collect();
@@ -168,7 +186,14 @@ fn tributary(grid: &Grid, nodes: &[u32]) -> Vec<f64> {
     w
 }
 
-fn sidewise_grid(b: &BoundarySpec, grid: &Grid) -> BoundaryData {
+/// (ρc_d, ρc_s) [kg/(m²·s)]: the normal and tangential impedances of a material.
+fn impedance(m: &PlaneStrain) -> (f64, f64) {
+    let c = m.wave_speeds();
+    (m.density * c.cd, m.density * c.cs)
+}
+
+fn sidewise_grid(b: &BoundarySpec, grid: &Grid, material: &PlaneStrain) -> BoundaryData {
+    let (zd, zs) = impedance(material);
     let nodes = side_nodes(grid);
     let sides: Vec<_> = b
         .curves
@@ -185,22 +210,31 @@ fn sidewise_grid(b: &BoundarySpec, grid: &Grid) -> BoundaryData {
                 Some(_) => tributary.iter().map(|&w| inward.map(|i| i * w)).collect(),
                 None => Vec::new(),
             };
+            // a straight side: ρc_d on its normal, ρc_s along it, times the tributary length
+            let (zx, zy) = if inward[0] == 0.0 { (zs, zd) } else { (zd, zs) };
+            let dashpots = match c.absorbing {
+                true => tributary.iter().map(|&w| [w * zx, 0.0, w * zy]).collect(),
+                false => Vec::new(),
+            };
             CurveNodes {
                 nodes: nodes[k].clone(),
                 tributary,
                 pressure,
+                dashpots,
             }
         })
         .collect();
     sidewise(b, &sides)
 }
 
-/// A side or curve's nodes, their tributary lengths [m] and, with a pressure, their weights
-/// w_a = −∫ N_a n ds [m] (empty without one); a point's nodes with weight 1.
+/// A side or curve's nodes, their tributary lengths [m], with a pressure their weights
+/// w_a = −∫ N_a n ds [m] (empty without one), and when it absorbs their dashpots (C_xx, C_xy,
+/// C_yy) [N·s/m²] (empty otherwise); a point's nodes with weight 1.
 struct CurveNodes {
     nodes: Vec<u32>,
     tributary: Vec<f64>,
     pressure: Vec<[f64; 2]>,
+    dashpots: Vec<[f64; 3]>,
 }
 
 /// The conditions of `b` on its curves' nodes, one per entry of `b.curves` and in that order: a
@@ -291,12 +325,45 @@ fn sidewise(b: &BoundarySpec, sides: &[CurveNodes]) -> BoundaryData {
             }
         }
     }
+    let dashpots = dashpots(sides, &presc_index);
     BoundaryData {
         ramps,
         prescribed,
         neumann,
+        dashpots,
         parts,
     }
+}
+
+/// The dashpots of the absorbing parts, one per node (a node on two parts, a corner, gets the
+/// sum), by node id; a component a displacement holds has none (its row and column are zero).
+fn dashpots(sides: &[CurveNodes], presc_index: &HashMap<(u32, u8), usize>) -> Vec<Dashpot> {
+    let mut per_node: std::collections::BTreeMap<u32, ([f64; 3], u16)> = std::collections::BTreeMap::new();
+    for (part, side) in sides.iter().enumerate() {
+        for (&n, c) in side.nodes.iter().zip(&side.dashpots) {
+            let (sum, last) = per_node.entry(n).or_default();
+            for (s, c) in sum.iter_mut().zip(c) {
+                *s += c;
+            }
+            *last = part as u16;
+        }
+    }
+    per_node
+        .into_iter()
+        .map(|(node, (mut c, part))| {
+            let held = |d: u8| presc_index.contains_key(&(node, d));
+            if held(0) {
+                c[0] = 0.0;
+                c[1] = 0.0;
+            }
+            if held(1) {
+                c[1] = 0.0;
+                c[2] = 0.0;
+            }
+            Dashpot { node, c, part }
+        })
+        .filter(|d| d.c != [0.0; 3])
+        .collect()
 }
 
 #[cfg(test)]

@@ -30,6 +30,18 @@ impl BoundaryDof {
     }
 }
 
+/// The viscous dashpot of one node of an absorbing part: the force −C v [N/m] with C symmetric.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Dashpot {
+    /// Node id.
+    pub node: u32,
+    /// (C_xx, C_xy, C_yy) [N·s/m²]; zero for the free twin of an absorbing node, which shares
+    /// its pair's dashpot while the pair is tied.
+    pub c: [f64; 3],
+    /// The absorbing part whose force `boundary.csv` books it under (the last that names the node).
+    pub part: u16,
+}
+
 /// The parts of `[fem.boundary]` as `boundary.csv` reports them (empty with the Westergaard field).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct BoundaryParts {
@@ -126,6 +138,10 @@ pub(crate) struct Boundary {
     pub held_twins: Vec<(u32, u32)>,
     /// The Westergaard boundary field has the lateral-contraction term (docs/fem-model.md §7).
     pub lateral_contraction: bool,
+    /// The dashpots of the absorbing parts, one per node, by node id (docs/fem-model.md §7).
+    pub dashpots: Vec<Dashpot>,
+    /// Per node: its entry in `dashpots`, or u32::MAX (empty without dashpots).
+    pub dashpot_of: Vec<u32>,
 }
 
 /// Velocity damping of interface nodes: v ← c v on the damped set after each step.
@@ -228,6 +244,8 @@ pub(crate) struct EnergyTotals {
     pub contact_work: f64,
     pub friction: f64,
     pub damping: f64,
+    /// Work taken out of the body by the absorbing boundaries' dashpots (≥ 0).
+    pub absorbed: f64,
 }
 
 /// Node-to-segment contact state (hybrid model with contact surfaces only).
@@ -265,6 +283,8 @@ pub struct State {
     pub(crate) presc_r: Vec<f64>,
     /// Previous Neumann force per entry [N/m].
     pub(crate) neumann_f: Vec<f64>,
+    /// Previous dashpot force per entry of `Boundary::dashpots` [N/m].
+    pub(crate) dashpot_f: Vec<Vector2<f64>>,
 }
 
 /// Every buffer of the step, allocated at build.

@@ -47,6 +47,11 @@ pub struct BoundaryCurve {
     /// A uniform pressure [Pa] along the outward normal (> 0 pushes into the body): consistent
     /// nodal forces p ∫ N_a (−n) ds, on the components no displacement holds.
     pub pressure: Option<Ramp>,
+    /// Viscous dashpots on the part's nodes (Lysmer–Kuhlemeyer): a force −C v with ρc_d on the
+    /// normal and ρc_s on the tangential velocity, lumped over each node's tributary length,
+    /// on the components no displacement holds. Waves that reach the part leave the body (all of
+    /// a plane wave at normal incidence); a traction or pressure on the same part keeps loading it.
+    pub absorbing: bool,
 }
 
 /// Boundary conditions replacing the Westergaard field; sides, curves or components not given
@@ -84,14 +89,29 @@ fn component(field: &str, c: &RawBoundaryComponent, duration: f64) -> Result<Bou
 }
 
 fn side(name: &str, s: &RawSide, duration: f64) -> Result<BoundaryCurve, SceneError> {
-    if s.x.is_none() && s.y.is_none() && s.pressure.is_none() {
+    let absorbing = s.absorbing == Some(true);
+    if s.x.is_none() && s.y.is_none() && s.pressure.is_none() && !absorbing {
         return Err(inconsistent(
             format!("fem.boundary.{name}"),
-            "gives no x, y or pressure: a part not listed is free already (remove the table, or \
-             give its condition)",
+            "gives no x, y, pressure or absorbing = true: a part not listed is free already (remove \
+             the table, or give its condition)",
         ));
     }
     let key = |c: &str| format!("fem.boundary.{name}.{c}");
+    if absorbing
+        && let Some(held) = [("x", &s.x), ("y", &s.y)]
+            .into_iter()
+            .find(|(_, c)| c.as_ref().is_some_and(|c| c.kind == "displacement"))
+    {
+        return Err(inconsistent(
+            key("absorbing"),
+            format!(
+                "a part whose {} displacement is imposed cannot let waves out through it; absorb on a \
+                 part that is free or loaded by a traction or pressure",
+                held.0
+            ),
+        ));
+    }
     let x =
         s.x.as_ref()
             .map(|c| component(&key("x"), c, duration))
@@ -109,6 +129,7 @@ fn side(name: &str, s: &RawSide, duration: f64) -> Result<BoundaryCurve, SceneEr
         name: name.to_string(),
         components: [x, y],
         pressure,
+        absorbing,
     })
 }
 
@@ -192,16 +213,22 @@ pub(super) fn mesh_boundary(f: &RawFem, crack: Option<&Crack>, m: &MeshSpec) -> 
                 let part = p
                     .boundary_nodes(name)
                     .map_err(|e| inconsistent(format!("fem.boundary.{name}"), e.to_string()))?;
-                if part.point && side.pressure.is_some() {
-                    return Err(inconsistent(
-                        format!("fem.boundary.{name}.pressure"),
-                        format!("\"{name}\" is a physical point; a pressure acts along a curve"),
-                    ));
-                }
-                if side.pressure.is_some() {
+                for (given, what, key) in [
+                    (side.pressure.is_some(), "a pressure acts", "pressure"),
+                    (side.absorbing == Some(true), "dashpots absorb", "absorbing"),
+                ] {
+                    if !given {
+                        continue;
+                    }
+                    if part.point {
+                        return Err(inconsistent(
+                            format!("fem.boundary.{name}.{key}"),
+                            format!("\"{name}\" is a physical point; {what} along a curve"),
+                        ));
+                    }
                     p.mesh
                         .pressure_weights(name)
-                        .map_err(|e| inconsistent(format!("fem.boundary.{name}.pressure"), e.to_string()))?;
+                        .map_err(|e| inconsistent(format!("fem.boundary.{name}.{key}"), e.to_string()))?;
                 }
             }
         }

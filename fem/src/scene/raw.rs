@@ -83,6 +83,8 @@ pub(crate) struct RawSide {
     pub y: Option<RawBoundaryComponent>,
     /// A uniform pressure [Pa] along the outward normal, pushing into the body.
     pub pressure: Option<RawRamp>,
+    /// Viscous dashpots that let waves out (Lysmer–Kuhlemeyer).
+    pub absorbing: Option<bool>,
 }
 
 /// `[fem.boundary]`: per side of the built-in grid (`bottom`, `right`, `top`, `left`) or per

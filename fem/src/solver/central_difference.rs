@@ -1,5 +1,6 @@
 //! One explicit central-difference step in the order of docs/fem-model.md §9: predictor, prescribed
-//! values, bulk + cohesive + contact + external forces, tied-pair accelerations, corrector,
+//! values, bulk + cohesive + contact + external forces, tied-pair accelerations, absorbing
+//! boundaries' dashpots, corrector,
 //! insertion, 0.99 velocity scaling, energy bookkeeping. No I/O, no allocation.
 
 use crate::contact::ContactSummary;
@@ -9,8 +10,8 @@ use crate::model::state::{Model, State, Workspace};
 use crate::model::{bulk, cohesive, insertion};
 use crate::profile::Phase;
 use crate::scene::DampingSet;
-use crate::solver::contact_step;
 use crate::solver::node::{advance, predict, track_vmax2};
+use crate::solver::{absorbing, contact_step};
 use nalgebra::Vector2;
 use rayon::prelude::*;
 
@@ -82,6 +83,7 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
     reactions(model, state, ws);
     combine_tied(model, state, ws);
     release_held_twins(model, state, ws);
+    absorbing::absorb(model, state, ws);
     ws.clock.lap(Phase::Boundary);
     // Insertion reads u_{n+1} only (element stresses next to the interface): it runs before the
     // corrector, whose fused sweep may already move the bulk on to the next step's predictor.

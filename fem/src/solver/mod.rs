@@ -1,6 +1,7 @@
 //! Explicit central-difference integration and the run loop, on the structured grid and on Gmsh
 //! meshes alike.
 
+pub(crate) mod absorbing;
 pub mod central_difference;
 pub(crate) mod contact_step;
 pub mod estimate;

@@ -26,6 +26,8 @@ mod spectral_supershear;
 
 // ---- fem claims ----
 #[cfg(feature = "fem")]
+mod fem_absorbing;
+#[cfg(feature = "fem")]
 mod fem_arc_interface;
 #[cfg(feature = "fem")]
 mod fem_bimaterial;

@@ -78,6 +78,53 @@ impl UnstructuredMesh {
         Ok((g.nodes.clone(), w))
     }
 
+    /// The nodes of the physical curve `name` and, per node, the lumped dashpot of a viscous
+    /// (Lysmer–Kuhlemeyer) absorbing boundary, Σ ½ L [ρc_s I + (ρc_d − ρc_s) n nᵀ] over its line
+    /// elements, as the symmetric (xx, xy, yy) [N·s/m²]: ρc_d on the normal and ρc_s on the
+    /// tangential velocity, of the material of the bulk element beside each line.
+    /// `impedance(e)` gives (ρc_d, ρc_s) [kg/(m²·s)] of bulk element e. Each line must be on the
+    /// outer boundary, as for [`Self::pressure_weights`].
+    pub fn dashpot_weights(
+        &self,
+        name: &str,
+        impedance: &dyn Fn(usize) -> (f64, f64),
+    ) -> Result<(Vec<usize>, Vec<[f64; 3]>), MeshError> {
+        let g = self.group_of_dim(name, 1, "a boundary part is a physical curve (dimension 1)")?;
+        let edges = self.edge_map();
+        let mut w = vec![[0.0; 3]; g.nodes.len()];
+        for &l in &g.elements {
+            let [a, b] = self.lines[l].nodes;
+            let faces = edges.get(&key(a, b)).map_or(&[][..], |f| f.as_slice());
+            let [face] = faces else {
+                return Err(MeshError::NotOuter {
+                    group: name.to_string(),
+                    line: self.lines[l].tag,
+                    elements: faces.len(),
+                });
+            };
+            let d = self.positions[b] - self.positions[a];
+            let length = d.norm();
+            let n = Vector2::new(d.y, -d.x) / length; // either sign: n nᵀ is the same
+            let (zd, zs) = impedance(face.element);
+            let half = 0.5 * length;
+            let c = [
+                half * (zs + (zd - zs) * n.x * n.x),
+                half * (zd - zs) * n.x * n.y,
+                half * (zs + (zd - zs) * n.y * n.y),
+            ];
+            for end in [a, b] {
+                let k = g
+                    .nodes
+                    .binary_search(&end)
+                    .expect("invariant: a group lists its lines' nodes");
+                for (wk, ck) in w[k].iter_mut().zip(c) {
+                    *wk += ck;
+                }
+            }
+        }
+        Ok((g.nodes.clone(), w))
+    }
+
     /// Bulk elements on each edge: key (smaller node, larger node) → (element, local edge).
     pub(super) fn edge_map(&self) -> EdgeMap {
         let mut map: HashMap<(usize, usize), Vec<Face>> = HashMap::new();
