@@ -13,7 +13,7 @@ pub(crate) const CHUNK: usize = 1024;
 /// Layers whose nodes must keep u_{n+1}, v_{n+1} until after contact and insertion: the two
 /// layers of the interface and their neighbours (the insertion check reads the stresses of the
 /// elements next to the interface), the bottom and top layers, and every layer holding a
-/// prescribed DOF off its edges or a Neumann force.
+/// prescribed DOF, a Neumann force or a dashpot off its edges.
 pub(crate) fn deferred_layers(grid: &Grid, fixed_dof: &[[bool; 2]], neumann_nodes: &[u32]) -> Vec<bool> {
     let layers = grid.layer_side.len();
     let w = grid.nx + 1;
@@ -39,8 +39,13 @@ pub(crate) fn deferred_layers(grid: &Grid, fixed_dof: &[[bool; 2]], neumann_node
             deferred[n / w] = true;
         }
     }
+    // a load or dashpot on an edge node needs nothing more: the sweep leaves every edge node
+    // to the corrector pass (a box loaded and absorbing on its left and right sides keeps the sweep)
     for &n in neumann_nodes {
-        deferred[n as usize / w] = true;
+        let i = n as usize % w;
+        if i != 0 && i != w - 1 {
+            deferred[n as usize / w] = true;
+        }
     }
     deferred
 }
