@@ -900,7 +900,7 @@ fn keys_that_would_do_nothing_or_harm_are_refused() {
         (
             format!("{bend}\n[fem.boundary.notch_tip]\n"),
             "fem.boundary.notch_tip:",
-            "no x, y, pressure or absorbing",
+            "no x, y, pressure, absorbing",
         ),
         (
             bend.replace(
@@ -1045,8 +1045,20 @@ fn a_mesh_curve_absorbs_and_absorbing_is_refused_where_it_cannot_act() {
         "outer boundary",
     );
     refused(
-        &(grid + "\n[fem.boundary.right]\nabsorbing = false\n"),
+        &(grid.clone() + "\n[fem.boundary.right]\nabsorbing = false\n"),
         "fem.boundary.right",
-        "no x, y, pressure or absorbing",
+        "no x, y, pressure, absorbing",
+    );
+    // the far field gives a part's whole traction, of one material
+    refused(
+        &grid.replace("[fem.boundary.left]\n", "[fem.boundary.left]\nfar_field = true\n"),
+        "fem.boundary.left.far_field",
+        "keep one",
+    );
+    refused(
+        &(scene_text("tiny-fem-bimaterial")
+            .replace("[fem.boundary.top]\n", "[fem.boundary.top]\nfar_field = true\n")),
+        "fem.boundary.top.far_field",
+        "several",
     );
 }

@@ -140,10 +140,10 @@ fn with_twins(
             let x = x0[m as usize];
             return Err(BuildError::AbsorbingJunction { x: x.x, y: x.y });
         }
-        let part = dashpots
+        let (part, relative) = dashpots
             .iter()
             .find(|d| d.node == m || d.node == p)
-            .map_or(0, |d| d.part);
+            .map_or((0, false), |d| (d.part, d.relative));
         for n in [m, p] {
             if let Err(k) = dashpots.binary_search_by_key(&n, |d| d.node) {
                 dashpots.insert(
@@ -152,6 +152,7 @@ fn with_twins(
                         node: n,
                         c: [0.0; 3],
                         part,
+                        relative,
                     },
                 );
             }
@@ -246,6 +247,7 @@ pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State,
             lateral_contraction: f.lateral_contraction,
             dashpots,
             dashpot_of,
+            far_field: bd.far_field,
         },
         damping: Damping {
             set: f.damping.set,

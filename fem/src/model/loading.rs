@@ -5,7 +5,7 @@
 use crate::law::elastic::PlaneStrain;
 use crate::mesh::prepared::PreparedMesh;
 use crate::mesh::structured::{Grid, LayerSide};
-use crate::model::state::{BoundaryDof, BoundaryParts, Dashpot};
+use crate::model::state::{BoundaryDof, BoundaryParts, Dashpot, FarFieldMotion};
 use crate::scene::{BoundaryKind, BoundarySpec, GRID_SIDES, Ramp, Scene};
 use nalgebra::{Complex, Vector2};
 use std::collections::HashMap;
@@ -19,6 +19,8 @@ pub(crate) struct BoundaryData {
     pub neumann: Vec<BoundaryDof>,
     /// One per node of an absorbing part, by node id; held components are left out.
     pub dashpots: Vec<Dashpot>,
+    /// The far field's motion when a part carries it.
+    pub far_field: Option<FarFieldMotion>,
     pub parts: BoundaryParts,
 }
 
@@ -67,7 +69,7 @@ pub(crate) fn westergaard_unit(
 /// Builds the boundary data of a scene on a grid.
 pub(crate) fn boundary(scene: &Scene, grid: &Grid) -> BoundaryData {
     match &scene.fem.boundary {
-        Some(b) => sidewise_grid(b, grid, &scene.material),
+        Some(b) => sidewise_grid(scene, b, grid),
         None => westergaard(scene, grid),
     }
 }
@@ -114,6 +116,7 @@ fn westergaard_on(scene: &Scene, nodes: impl Iterator<Item = (usize, Vector2<f64
         prescribed,
         neumann: Vec::new(),
         dashpots: Vec::new(),
+        far_field: None,
         parts: BoundaryParts::default(),
     }
 }
@@ -137,15 +140,16 @@ pub(crate) fn boundary_on_mesh(scene: &Scene, mesh: &PreparedMesh) -> BoundaryDa
                 .iter()
                 .map(|c| {
                     let part = mesh.boundary_nodes(&c.name).expect(CHECKED);
-                    let pressure = match c.pressure {
-                        Some(_) => mesh.mesh.pressure_weights(&c.name).expect(CHECKED).1,
-                        None => Vec::new(),
+                    let pressure = match c.pressure.is_some() || c.far_field {
+                        true => mesh.mesh.pressure_weights(&c.name).expect(CHECKED).1,
+                        false => Vec::new(),
                     };
                     let dashpots = match c.absorbing {
                         true => mesh.mesh.dashpot_weights(&c.name, &impedance).expect(CHECKED).1,
                         false => Vec::new(),
                     };
                     CurveNodes {
+                        positions: part_positions(&part.nodes, &mesh.mesh.positions),
                         nodes: part.nodes,
                         tributary: part.weight,
                         pressure: pressure.iter().map(|w| [w.x, w.y]).collect(),
@@ -153,7 +157,7 @@ pub(crate) fn boundary_on_mesh(scene: &Scene, mesh: &PreparedMesh) -> BoundaryDa
                     }
                 })
                 .collect();
-            sidewise(b, &curves)
+            sidewise(scene, b, &curves)
         }
         None => westergaard_on(
             scene,
@@ -192,8 +196,8 @@ fn impedance(m: &PlaneStrain) -> (f64, f64) {
     (m.density * c.cd, m.density * c.cs)
 }
 
-fn sidewise_grid(b: &BoundarySpec, grid: &Grid, material: &PlaneStrain) -> BoundaryData {
-    let (zd, zs) = impedance(material);
+fn sidewise_grid(scene: &Scene, b: &BoundarySpec, grid: &Grid) -> BoundaryData {
+    let (zd, zs) = impedance(&scene.material);
     let nodes = side_nodes(grid);
     let sides: Vec<_> = b
         .curves
@@ -206,9 +210,9 @@ fn sidewise_grid(b: &BoundarySpec, grid: &Grid, material: &PlaneStrain) -> Bound
             let tributary = tributary(grid, &nodes[k]);
             // −∫ N_a n ds on a straight side: its inward normal times the tributary length
             let inward = [[0.0, 1.0], [-1.0, 0.0], [0.0, -1.0], [1.0, 0.0]][k];
-            let pressure = match c.pressure {
-                Some(_) => tributary.iter().map(|&w| inward.map(|i| i * w)).collect(),
-                None => Vec::new(),
+            let pressure = match c.pressure.is_some() || c.far_field {
+                true => tributary.iter().map(|&w| inward.map(|i| i * w)).collect(),
+                false => Vec::new(),
             };
             // a straight side: ρc_d on its normal, ρc_s along it, times the tributary length
             let (zx, zy) = if inward[0] == 0.0 { (zs, zd) } else { (zd, zs) };
@@ -217,6 +221,7 @@ fn sidewise_grid(b: &BoundarySpec, grid: &Grid, material: &PlaneStrain) -> Bound
                 false => Vec::new(),
             };
             CurveNodes {
+                positions: part_positions(&nodes[k], &grid.x0),
                 nodes: nodes[k].clone(),
                 tributary,
                 pressure,
@@ -224,14 +229,16 @@ fn sidewise_grid(b: &BoundarySpec, grid: &Grid, material: &PlaneStrain) -> Bound
             }
         })
         .collect();
-    sidewise(b, &sides)
+    sidewise(scene, b, &sides)
 }
 
-/// A side or curve's nodes, their tributary lengths [m], with a pressure their weights
-/// w_a = −∫ N_a n ds [m] (empty without one), and when it absorbs their dashpots (C_xx, C_xy,
-/// C_yy) [N·s/m²] (empty otherwise); a point's nodes with weight 1.
+/// A side or curve's nodes, their reference positions [m] and tributary lengths [m], with a
+/// pressure or the far field their weights w_a = −∫ N_a n ds [m] (empty without), and when it
+/// absorbs their dashpots (C_xx, C_xy, C_yy) [N·s/m²] (empty otherwise); a point's nodes with
+/// weight 1.
 struct CurveNodes {
     nodes: Vec<u32>,
+    positions: Vec<Vector2<f64>>,
     tributary: Vec<f64>,
     pressure: Vec<[f64; 2]>,
     dashpots: Vec<[f64; 3]>,
@@ -240,7 +247,7 @@ struct CurveNodes {
 /// The conditions of `b` on its curves' nodes, one per entry of `b.curves` and in that order: a
 /// later displacement replaces an earlier one at a shared node, and a traction or a pressure does
 /// not act on a component a displacement holds.
-fn sidewise(b: &BoundarySpec, sides: &[CurveNodes]) -> BoundaryData {
+fn sidewise(scene: &Scene, b: &BoundarySpec, sides: &[CurveNodes]) -> BoundaryData {
     let mut ramps = Vec::new();
     let mut presc_index: HashMap<(u32, u8), usize> = HashMap::new();
     let mut prescribed: Vec<BoundaryDof> = Vec::new();
@@ -325,32 +332,94 @@ fn sidewise(b: &BoundarySpec, sides: &[CurveNodes]) -> BoundaryData {
             }
         }
     }
-    let dashpots = dashpots(sides, &presc_index);
+    // the far field's traction σ∞ n, f_a = σ∞ ∫ N_a n ds = −σ∞ w_a with σ_xx = 0:
+    // f_x = −σ_xy w_y, f_y = −σ_xy w_x − σ_yy w_y
+    if b.curves.iter().any(|c| c.far_field) {
+        ramps.push(scene.loading.normal);
+        ramps.push(scene.loading.shear);
+        let (kn, ks) = ((ramps.len() - 2) as u8, (ramps.len() - 1) as u8);
+        for (part, (curve, side)) in b.curves.iter().zip(sides).enumerate() {
+            if !curve.far_field {
+                continue;
+            }
+            for (&n, w) in side.nodes.iter().zip(&side.pressure) {
+                let terms = [[(ks, -w[1]), (ks, 0.0)], [(kn, -w[1]), (ks, -w[0])]];
+                for (dof, terms) in terms.into_iter().enumerate() {
+                    if terms.iter().any(|t| t.1 != 0.0) && !presc_index.contains_key(&(n, dof as u8)) {
+                        neumann.push(BoundaryDof {
+                            node: n,
+                            dof: dof as u8,
+                            terms,
+                        });
+                        parts.neumann.push(part as u16);
+                    }
+                }
+            }
+        }
+    }
+    let dashpots = dashpots(b, sides, &presc_index);
+    let far_field = far_field_motion(scene, b, sides);
     BoundaryData {
         ramps,
         prescribed,
         neumann,
         dashpots,
+        far_field,
         parts,
     }
 }
 
+/// The reference positions [m] of `nodes`.
+fn part_positions(nodes: &[u32], x0: &[Vector2<f64>]) -> Vec<Vector2<f64>> {
+    nodes.iter().map(|&n| x0[n as usize]).collect()
+}
+
+/// The far field's motion when a part carries it: the plane-strain compliance of `[material]`
+/// (σ_xx = 0, σ_zz = ν σ_yy: ε_xx = −ν(1 + ν) σ_yy/E, ε_yy = (1 − ν²) σ_yy/E, γ = σ_xy/G) about
+/// the centroid of the far-field parts' nodes, weighted by their tributary lengths.
+fn far_field_motion(scene: &Scene, b: &BoundarySpec, sides: &[CurveNodes]) -> Option<FarFieldMotion> {
+    let (mut sum, mut weight) = (Vector2::zeros(), 0.0);
+    for (curve, side) in b.curves.iter().zip(sides) {
+        if curve.far_field {
+            for (x, &w) in side.positions.iter().zip(&side.tributary) {
+                sum += x * w;
+                weight += w;
+            }
+        }
+    }
+    if weight == 0.0 {
+        return None;
+    }
+    let m = &scene.material;
+    let (e, nu) = (m.youngs_modulus, m.poisson_ratio);
+    Some(FarFieldMotion {
+        normal: scene.loading.normal,
+        shear: scene.loading.shear,
+        compliance: [-nu * (1.0 + nu) / e, (1.0 - nu * nu) / e, 1.0 / m.shear_modulus],
+        center: sum / weight,
+    })
+}
+
 /// The dashpots of the absorbing parts, one per node (a node on two parts, a corner, gets the
 /// sum), by node id; a component a displacement holds has none (its row and column are zero).
-fn dashpots(sides: &[CurveNodes], presc_index: &HashMap<(u32, u8), usize>) -> Vec<Dashpot> {
-    let mut per_node: std::collections::BTreeMap<u32, ([f64; 3], u16)> = std::collections::BTreeMap::new();
-    for (part, side) in sides.iter().enumerate() {
+fn dashpots(b: &BoundarySpec, sides: &[CurveNodes], presc_index: &HashMap<(u32, u8), usize>) -> Vec<Dashpot> {
+    let mut per_node: std::collections::BTreeMap<u32, ([f64; 3], u16, bool)> =
+        std::collections::BTreeMap::new();
+    for (part, (curve, side)) in b.curves.iter().zip(sides).enumerate() {
         for (&n, c) in side.nodes.iter().zip(&side.dashpots) {
-            let (sum, last) = per_node.entry(n).or_default();
+            let (sum, last, relative) = per_node.entry(n).or_default();
             for (s, c) in sum.iter_mut().zip(c) {
                 *s += c;
             }
             *last = part as u16;
+            // a node on a far-field part follows the far field (a corner with a plain absorbing
+            // part too: the far field is the motion the whole boundary is loaded with)
+            *relative |= curve.far_field;
         }
     }
     per_node
         .into_iter()
-        .map(|(node, (mut c, part))| {
+        .map(|(node, (mut c, part, relative))| {
             let held = |d: u8| presc_index.contains_key(&(node, d));
             if held(0) {
                 c[0] = 0.0;
@@ -360,7 +429,12 @@ fn dashpots(sides: &[CurveNodes], presc_index: &HashMap<(u32, u8), usize>) -> Ve
                 c[1] = 0.0;
                 c[2] = 0.0;
             }
-            Dashpot { node, c, part }
+            Dashpot {
+                node,
+                c,
+                part,
+                relative,
+            }
         })
         .filter(|d| d.c != [0.0; 3])
         .collect()

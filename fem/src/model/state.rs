@@ -40,6 +40,54 @@ pub(crate) struct Dashpot {
     pub c: [f64; 3],
     /// The absorbing part whose force `boundary.csv` books it under (the last that names the node).
     pub part: u16,
+    /// The dashpot acts on the velocity relative to the far field's motion (`Boundary::far_field`).
+    pub relative: bool,
+}
+
+/// The motion of the uniform far field of `[loading]` (σ_xx = 0, σ_yy, σ_xy), that the dashpots of
+/// far-field parts take their velocity from: v∞ = ε̇∞ (x − x_c), with no rotation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct FarFieldMotion {
+    /// σ_yy(t) [Pa].
+    pub normal: Ramp,
+    /// σ_xy(t) [Pa].
+    pub shear: Ramp,
+    /// ε_xx, ε_yy per unit σ_yy and γ_xy per unit σ_xy [1/Pa] (plane strain).
+    pub compliance: [f64; 3],
+    /// x_c [m]: the centroid of the dashpots that follow the far field, which it leaves at rest.
+    pub center: Vector2<f64>,
+}
+
+impl FarFieldMotion {
+    /// v∞ [m/s] at reference position `x` [m] and time `t` [s].
+    #[inline]
+    pub fn velocity(&self, x: Vector2<f64>, t: f64) -> Vector2<f64> {
+        self.strain_field(x, self.normal.rate(t), self.shear.rate(t))
+    }
+
+    /// The far field's strain rate ε̇∞ [1/s] or its second derivative ε̈∞ [1/s²] at `t` [s]:
+    /// (ε_xx, ε_yy, ½γ), whose product with x − x_c is v∞ or a∞.
+    #[inline]
+    pub fn acceleration_gradient(&self, t: f64) -> [f64; 3] {
+        let (sn, ss) = (self.normal.acceleration(t), self.shear.acceleration(t));
+        [
+            self.compliance[0] * sn,
+            self.compliance[1] * sn,
+            0.5 * self.compliance[2] * ss,
+        ]
+    }
+
+    /// The linear field ε (x − x_c) of the strain (rate) of stresses (rates) σ_yy, σ_xy.
+    #[inline]
+    fn strain_field(&self, x: Vector2<f64>, syy: f64, sxy: f64) -> Vector2<f64> {
+        let (exx, eyy, half_g) = (
+            self.compliance[0] * syy,
+            self.compliance[1] * syy,
+            0.5 * self.compliance[2] * sxy,
+        );
+        let d = x - self.center;
+        Vector2::new(exx * d.x + half_g * d.y, half_g * d.x + eyy * d.y)
+    }
 }
 
 /// The parts of `[fem.boundary]` as `boundary.csv` reports them (empty with the Westergaard field).
@@ -142,6 +190,8 @@ pub(crate) struct Boundary {
     pub dashpots: Vec<Dashpot>,
     /// Per node: its entry in `dashpots`, or u32::MAX (empty without dashpots).
     pub dashpot_of: Vec<u32>,
+    /// The far field's motion, when a part carries it (`far_field = true`).
+    pub far_field: Option<FarFieldMotion>,
 }
 
 /// Velocity damping of interface nodes: v ← c v on the damped set after each step.

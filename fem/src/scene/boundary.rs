@@ -52,6 +52,11 @@ pub struct BoundaryCurve {
     /// on the components no displacement holds. Waves that reach the part leave the body (all of
     /// a plane wave at normal incidence); a traction or pressure on the same part keeps loading it.
     pub absorbing: bool,
+    /// The part carries the traction σ∞ n of the uniform far-field stress of `[loading]` (σ_xx = 0,
+    /// σ_yy = `normal`, σ_xy = `shear`, the far field of the spectral model), as consistent nodal
+    /// forces; with `absorbing`, its dashpots act on the velocity relative to that field's motion,
+    /// so that they let the scattered waves out and leave the load alone.
+    pub far_field: bool,
 }
 
 /// Boundary conditions replacing the Westergaard field; sides, curves or components not given
@@ -89,15 +94,32 @@ fn component(field: &str, c: &RawBoundaryComponent, duration: f64) -> Result<Bou
 }
 
 fn side(name: &str, s: &RawSide, duration: f64) -> Result<BoundaryCurve, SceneError> {
-    let absorbing = s.absorbing == Some(true);
-    if s.x.is_none() && s.y.is_none() && s.pressure.is_none() && !absorbing {
+    let (absorbing, far_field) = (s.absorbing == Some(true), s.far_field == Some(true));
+    if s.x.is_none() && s.y.is_none() && s.pressure.is_none() && !absorbing && !far_field {
         return Err(inconsistent(
             format!("fem.boundary.{name}"),
-            "gives no x, y, pressure or absorbing = true: a part not listed is free already (remove \
-             the table, or give its condition)",
+            "gives no x, y, pressure, absorbing = true or far_field = true: a part not listed is free \
+             already (remove the table, or give its condition)",
         ));
     }
     let key = |c: &str| format!("fem.boundary.{name}.{c}");
+    if far_field
+        && let Some(other) = [
+            ("x", s.x.is_some()),
+            ("y", s.y.is_some()),
+            ("pressure", s.pressure.is_some()),
+        ]
+        .into_iter()
+        .find(|(_, given)| *given)
+    {
+        return Err(inconsistent(
+            key("far_field"),
+            format!(
+                "the far field gives the part's whole traction, and {} gives another: keep one",
+                key(other.0)
+            ),
+        ));
+    }
     if absorbing
         && let Some(held) = [("x", &s.x), ("y", &s.y)]
             .into_iter()
@@ -130,6 +152,7 @@ fn side(name: &str, s: &RawSide, duration: f64) -> Result<BoundaryCurve, SceneEr
         components: [x, y],
         pressure,
         absorbing,
+        far_field,
     })
 }
 
@@ -216,7 +239,19 @@ pub(super) fn mesh_boundary(f: &RawFem, crack: Option<&Crack>, m: &MeshSpec) -> 
                 for (given, what, key) in [
                     (side.pressure.is_some(), "a pressure acts", "pressure"),
                     (side.absorbing == Some(true), "dashpots absorb", "absorbing"),
+                    (
+                        side.far_field == Some(true),
+                        "a far-field traction acts",
+                        "far_field",
+                    ),
                 ] {
+                    if given && key == "far_field" && !m.materials.is_empty() {
+                        return Err(inconsistent(
+                            format!("fem.boundary.{name}.far_field"),
+                            "the far field of [loading] is the uniform stress of one material, and \
+                             fem.mesh.materials gives several; load the part by its own traction",
+                        ));
+                    }
                     if !given {
                         continue;
                     }

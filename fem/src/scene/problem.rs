@@ -46,6 +46,17 @@ impl Ramp {
         let s = (t - self.ramp_start) / span;
         (self.final_value - self.initial) * 30.0 * s * s * (1.0 - s) * (1.0 - s) / span
     }
+
+    /// Second derivative d²(value)/dt² at time t [unit/s²]: (final − initial) S''(s)/(t₁ − t₀)²
+    /// with S''(s) = 60 s (1 − s)(1 − 2s), 0 outside the ramp (and for a step).
+    pub fn acceleration(&self, t: f64) -> f64 {
+        let span = self.ramp_end - self.ramp_start;
+        if span <= 0.0 || t <= self.ramp_start || t >= self.ramp_end {
+            return 0.0;
+        }
+        let s = (t - self.ramp_start) / span;
+        (self.final_value - self.initial) * 60.0 * s * (1.0 - s) * (1.0 - 2.0 * s) / (span * span)
+    }
 }
 
 #[cfg(test)]
@@ -69,6 +80,17 @@ mod tests {
         assert_eq!(r.rate(3.5), 0.0);
         // peak S'(½) = 15/8 over a span of 2 s and a rise of 2
         assert!((r.rate(2.0) - 15.0 / 8.0).abs() < 1e-12);
+        for t in [1.2, 1.7, 2.0, 2.9] {
+            let d = 1e-6;
+            let fd = (r.rate(t + d) - r.rate(t - d)) / (2.0 * d);
+            assert!(
+                (r.acceleration(t) - fd).abs() < 1e-7,
+                "t = {t}: {} vs {fd}",
+                r.acceleration(t)
+            );
+        }
+        assert_eq!(r.acceleration(0.5), 0.0);
+        assert_eq!(r.acceleration(3.5), 0.0);
     }
 }
 

@@ -85,6 +85,8 @@ pub(crate) struct RawSide {
     pub pressure: Option<RawRamp>,
     /// Viscous dashpots that let waves out (Lysmer–Kuhlemeyer).
     pub absorbing: Option<bool>,
+    /// The traction of the far-field stress of `[loading]`.
+    pub far_field: Option<bool>,
 }
 
 /// `[fem.boundary]`: per side of the built-in grid (`bottom`, `right`, `top`, `left`) or per

@@ -43,7 +43,8 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
     // forces and state). With `contact_friction = "failed_only"` it reads the damage of the
     // start of the step (prepared here, before the cohesive law), on sampled steps too.
     contact_step::prepare(model, state, ws);
-    let overlap = !sample;
+    let far_field = absorbing::far_field_accelerates(model, t1);
+    let overlap = !sample && !far_field;
     // (swept, whether f holds the bulk forces, contact): without a one-pass sweep (a mapped or a
     // Gmsh mesh) the bulk forces themselves run beside the detection
     let (swept, forces_done, contact) = if overlap {
@@ -79,6 +80,9 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
     contact_step::apply(model, state, ws, contact);
     ws.clock.lap(Phase::Contact);
     external_forces(model, state, ws);
+    if far_field {
+        absorbing::far_field_load(model, state, ws);
+    }
     support_held_twins(model, state, ws);
     reactions(model, state, ws);
     combine_tied(model, state, ws);
