@@ -17,3 +17,4 @@ pub mod series;
 pub mod sinusoid;
 pub mod study;
 pub mod sweep;
+pub mod theory;
