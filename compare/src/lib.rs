@@ -16,5 +16,6 @@ pub mod runner;
 pub mod series;
 pub mod sinusoid;
 pub mod study;
+pub mod suite;
 pub mod sweep;
 pub mod theory;

@@ -115,6 +115,14 @@ enum Job {
     /// Paper Section 4: the standard against the hybrid model on the sinusoidal interface, every
     /// model of [compare].models; exits non-zero if a run goes unstable (its output is kept).
     Sinusoid,
+    /// Cross-checks beyond the paper: every case of scenes/suite (Freund's crack under uniform
+    /// shear and under uniform tension) in both models, each against its analytic answer; writes
+    /// suite.csv and one folder per case, and exits non-zero if a metric fails.
+    Suite {
+        /// At half the scenes' element size, the spectral grid to match (docs/results.md).
+        #[arg(long)]
+        fine: bool,
+    },
     /// Paper Section 5 outlook: the same study on a self-affine rough weak interface
     /// (fem.interface_rough), standard against hybrid model, with the same metrics, CSVs and
     /// figures; exits non-zero if a run goes unstable (its output is kept).
@@ -255,6 +263,9 @@ fn real_main() -> Result<bool> {
     if let Some(passed) = before_scene(&matches, &cli)? {
         return Ok(passed);
     }
+    if let Some(Job::Suite { fine }) = cli.job {
+        return suite(&matches, &cli.common, fine);
+    }
     let file = match cli.job {
         Some(Job::Sinusoid) => compare::sinusoid::SCENE,
         Some(Job::Rough) => compare::rough::SCENE,
@@ -301,8 +312,43 @@ fn real_main() -> Result<bool> {
         }
         Some(Job::Sinusoid) => compare::sinusoid::run(&study, &out(""), &bars),
         Some(Job::Rough) => compare::rough::run(&study, &out(""), &bars),
-        Some(Job::SweepPoint { .. }) => unreachable!("invariant: handled before the scene is read"),
+        Some(Job::SweepPoint { .. } | Job::Suite { .. }) => {
+            unreachable!("invariant: handled before the scene is read")
+        }
     }
+}
+
+/// `suite`: its cases are the scenes of scenes/suite, so it takes no --scene.
+fn suite(matches: &ArgMatches, common: &Common, fine: bool) -> Result<bool> {
+    for (id, flag) in [
+        ("scene", "--scene"),
+        ("open", "--open"),
+        ("friction_rule", "--friction-rule"),
+    ] {
+        anyhow::ensure!(
+            !given(matches, id),
+            "{flag}: not taken by `suite`, which runs the scenes of scenes/suite as they are"
+        );
+    }
+    if let Some(dir) = &common.out {
+        preflight::paths::explicit(dir).map_err(|e| anyhow!(e))?;
+    }
+    let dir = common
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("out").join(if fine { "suite-fine" } else { "suite" }));
+    let options = compare::suite::Options {
+        scenes: default_scene("suite"),
+        fine,
+        budget: common.budget.budget(),
+        concurrent_runs: common.concurrent_runs.map(|n| n as usize),
+    };
+    let bars = Bars(
+        MultiProgress::new(),
+        preflight::stop::on_signal().map_err(|e| anyhow!(e))?,
+    );
+    let report = compare::suite::run(&options, &dir, &bars)?;
+    Ok(compare::suite::print_report(&report, &dir))
 }
 
 /// The options that change the study, checked: `--friction-rule` (its output-folder suffix

@@ -167,3 +167,23 @@ fn friction_rule_and_open_metrics_are_checked_before_any_step() {
     let e = refused("rule-name", &[], &text, &["--friction-rule", "some"]);
     assert!(e.contains("all_faces") && e.contains("failed_only"), "{e}");
 }
+
+/// `suite` runs the scenes of scenes/suite as they are: a --scene, --open or --friction-rule
+/// given to it is refused by name before any step, and a budget too small for its runs names the
+/// run and the flag to raise.
+#[test]
+fn the_suite_takes_its_own_scenes_and_checks_its_budget() {
+    let text = scene_text("center-crack");
+    let e = refused("suite-scene", &["suite"], &text, &[]);
+    assert!(e.contains("--scene: not taken by `suite`"), "{e}");
+    let t = trial("suite-budget", &text);
+    let e = t.refused(
+        Command::new(env!("CARGO_BIN_EXE_compare"))
+            .args(["suite", "--max-steps", "100", "--out"])
+            .arg(&t.out),
+    );
+    assert!(
+        e.contains("FE        freund-mode2") && e.contains("--max-steps"),
+        "{e}"
+    );
+}

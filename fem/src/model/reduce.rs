@@ -6,7 +6,7 @@
 use rayon::prelude::*;
 
 /// Number of parts: more than the threads of any machine this runs on, few enough for the stack.
-const PARTS: usize = 64;
+pub(crate) const PARTS: usize = 64;
 
 /// Σ_{i < n} term(i), in an order that depends only on n. Allocates nothing.
 pub(crate) fn ordered_sum(n: usize, term: impl Fn(usize) -> f64 + Sync) -> f64 {

@@ -94,14 +94,25 @@ pub(crate) fn far_field_load(model: &Model, state: &mut State, ws: &mut Workspac
         Vector2::new(g[0] * d.x + g[2] * d.y, g[2] * d.x + g[1] * d.y)
     };
     let (mass, x0, v, dt) = (&model.bulk.mass, &model.bulk.x0, &state.v, model.dt);
-    let work = crate::model::reduce::ordered_sum(x0.len(), |a| {
-        let mean = (at(&g0, x0[a]) + at(&g1, x0[a])) * (0.5 * mass[a]);
-        mean.dot(&v[a]) * dt
-    });
-    state.energy.boundary_work += work;
-    ws.f.par_iter_mut()
-        .zip(x0.par_iter().zip(mass.par_iter()))
-        .for_each(|(f, (&x, &m))| *f += at(&g1, x) * m);
+    // one pass: the load and its work together, the work summed in fixed parts and then in
+    // order, so that it has the same bits for any number of threads (as `reduce::ordered_sum`)
+    use crate::model::reduce::PARTS;
+    let size = x0.len().div_ceil(PARTS).max(1);
+    let mut partials = [0.0f64; PARTS];
+    ws.f.par_chunks_mut(size)
+        .zip(partials.par_iter_mut())
+        .enumerate()
+        .for_each(|(c, (f, part))| {
+            let mut sum = 0.0;
+            for (k, f) in f.iter_mut().enumerate() {
+                let a = c * size + k;
+                let (b0, b1) = (at(&g0, x0[a]) * mass[a], at(&g1, x0[a]) * mass[a]);
+                sum += 0.5 * (b0 + b1).dot(&v[a]) * dt;
+                *f += b1;
+            }
+            *part = sum;
+        });
+    state.energy.boundary_work += partials.iter().sum::<f64>();
 }
 
 /// Applies the dashpot force `fd` [N/m] of entry `k` (node `n`) and books its work.
