@@ -2,7 +2,7 @@
 //! nodes, the bulk elements of each edge) and the bookkeeping shared by the reader and the split.
 
 use super::{EdgeMap, Face, MeshError, PhysicalGroup, UnstructuredMesh, key, signed_area};
-use nalgebra::Vector2;
+use nalgebra::{Vector2, Vector3};
 use std::collections::{BTreeSet, HashMap};
 
 impl UnstructuredMesh {
@@ -54,28 +54,14 @@ impl UnstructuredMesh {
     /// f_a = p w_a [N/m]. Each line must be on the outer boundary (one bulk element beside it),
     /// which fixes its outward side whatever the line's direction.
     pub fn pressure_weights(&self, name: &str) -> Result<(Vec<usize>, Vec<Vector2<f64>>), MeshError> {
-        let g = self.group_of_dim(name, 1, "a boundary part is a physical curve (dimension 1)")?;
-        let edges = self.edge_map();
-        let mut w = vec![Vector2::zeros(); g.nodes.len()];
-        for &l in &g.elements {
-            let [a, b] = self.lines[l].nodes;
-            let faces = edges.get(&key(a, b)).map_or(&[][..], |f| f.as_slice());
-            let [face] = faces else {
-                return Err(MeshError::NotOuter {
-                    group: name.to_string(),
-                    line: self.lines[l].tag,
-                    elements: faces.len(),
-                });
-            };
+        self.per_outer_line(name, Vector2::zeros(), |face| {
             // the element runs counter-clockwise, so its edge p → q has the body on its left and
             // the outward normal times the length is (d_y, −d_x)
             let el = &self.elements[face.element].nodes;
             let (p, q) = (el[face.local_edge], el[(face.local_edge + 1) % el.len()]);
             let d = self.positions[q] - self.positions[p];
-            let half = -0.5 * Vector2::new(d.y, -d.x);
-            g.add_to_ends([a, b], half, &mut w);
-        }
-        Ok((g.nodes.clone(), w))
+            -0.5 * Vector2::new(d.y, -d.x)
+        })
     }
 
     /// The nodes of the physical curve `name` and, per node, the lumped dashpot of a viscous
@@ -89,9 +75,35 @@ impl UnstructuredMesh {
         name: &str,
         impedance: &dyn Fn(usize) -> (f64, f64),
     ) -> Result<(Vec<usize>, Vec<[f64; 3]>), MeshError> {
+        let (nodes, w) = self.per_outer_line(name, Vector3::zeros(), |face| {
+            let el = &self.elements[face.element].nodes;
+            let (p, q) = (el[face.local_edge], el[(face.local_edge + 1) % el.len()]);
+            let d = self.positions[q] - self.positions[p];
+            let length = d.norm();
+            let n = Vector2::new(d.y, -d.x) / length;
+            let (zd, zs) = impedance(face.element);
+            0.5 * length
+                * Vector3::new(
+                    zs + (zd - zs) * n.x * n.x,
+                    (zd - zs) * n.x * n.y,
+                    zs + (zd - zs) * n.y * n.y,
+                )
+        })?;
+        Ok((nodes, w.into_iter().map(|c| [c.x, c.y, c.z]).collect()))
+    }
+
+    /// The nodes of the physical curve `name` and, per node, the sum over its line elements of
+    /// `of_line(face)` at both ends of each line, `face` the bulk element beside the line; each
+    /// line must be on the outer boundary (one bulk element beside it).
+    fn per_outer_line<T: std::ops::AddAssign + Copy>(
+        &self,
+        name: &str,
+        zero: T,
+        of_line: impl Fn(&Face) -> T,
+    ) -> Result<(Vec<usize>, Vec<T>), MeshError> {
         let g = self.group_of_dim(name, 1, "a boundary part is a physical curve (dimension 1)")?;
         let edges = self.edge_map();
-        let mut w = vec![[0.0; 3]; g.nodes.len()];
+        let mut w = vec![zero; g.nodes.len()];
         for &l in &g.elements {
             let [a, b] = self.lines[l].nodes;
             let faces = edges.get(&key(a, b)).map_or(&[][..], |f| f.as_slice());
@@ -102,25 +114,7 @@ impl UnstructuredMesh {
                     elements: faces.len(),
                 });
             };
-            let d = self.positions[b] - self.positions[a];
-            let length = d.norm();
-            let n = Vector2::new(d.y, -d.x) / length; // either sign: n nᵀ is the same
-            let (zd, zs) = impedance(face.element);
-            let half = 0.5 * length;
-            let c = [
-                half * (zs + (zd - zs) * n.x * n.x),
-                half * (zd - zs) * n.x * n.y,
-                half * (zs + (zd - zs) * n.y * n.y),
-            ];
-            for end in [a, b] {
-                let k = g
-                    .nodes
-                    .binary_search(&end)
-                    .expect("invariant: a group lists its lines' nodes");
-                for (wk, ck) in w[k].iter_mut().zip(c) {
-                    *wk += ck;
-                }
-            }
+            g.add_to_ends([a, b], of_line(face), &mut w);
         }
         Ok((g.nodes.clone(), w))
     }
