@@ -29,6 +29,12 @@ const SECONDS_PER_ELEMENT_STEP: f64 = 5e-9;
 /// threads for either model); rounded up.
 const MAPPED_SECONDS_PER_ELEMENT_STEP: f64 = 3e-8;
 
+/// Wall time per element and step on 2 cores while the far field's ramps accelerate and its body
+/// load acts on every node (`far_field = true`: those steps take the separate passes) [s]:
+/// 1.74e-8 measured over a whole run of `scenes/suite/freund-mode2.toml` at h = 0.5 mm
+/// (3.24 M elements, 15 709 steps, 12 567 of them in the ramp, 886 s); rounded up.
+const FAR_FIELD_SECONDS_PER_ELEMENT_STEP: f64 = 2e-8;
+
 /// Peak memory while one ParaView snapshot is built and written, per bulk element [B]: the
 /// snapshot's arrays, vtkio's copies of them and their base64 text (docs/outputs.md, "Budgets").
 /// Measured peak resident memory with `[fem.paraview]` minus without, centre crack: 1.54 kB at
@@ -61,6 +67,29 @@ pub fn field_files(scene: &Scene) -> Option<(u64, u64)> {
         count,
         (FIELD_FILE_BYTES[0] * nx * ny + FIELD_FILE_BYTES[1] * row) as u64,
     ))
+}
+
+/// Steps while the far field's ramps accelerate, when a part carries the far field (0 otherwise).
+fn far_field_steps(scene: &Scene) -> f64 {
+    let far_field = scene
+        .fem
+        .boundary
+        .as_ref()
+        .is_some_and(|b| b.curves.iter().any(|c| c.far_field));
+    if !far_field {
+        return 0.0;
+    }
+    let l = &scene.loading;
+    let span = |r: &crate::scene::Ramp| {
+        let (a, b) = (r.ramp_start.min(l.duration), r.ramp_end.min(l.duration));
+        (r.initial != r.final_value && b > a).then_some((a, b))
+    };
+    let (a, b) = match (span(&l.normal), span(&l.shear)) {
+        (Some(p), Some(q)) => (p.0.min(q.0), p.1.max(q.1)),
+        (Some(p), None) | (None, Some(p)) => p,
+        (None, None) => return 0.0,
+    };
+    ((b - a) / scene.time_step()).ceil()
 }
 
 /// Elements along x and y.
@@ -126,7 +155,11 @@ pub fn estimate(scene: &Scene) -> Estimate {
             u64::MAX
         },
         steps_keys: "loading.duration, fem.element_size or fem.time_step_safety",
-        seconds: (steps_f * per_element_step + fields * FIELD_SECONDS_PER_ELEMENT) * nx * ny,
+        seconds: (steps_f * per_element_step
+            + far_field_steps(scene) * (FAR_FIELD_SECONDS_PER_ELEMENT_STEP - per_element_step).max(0.0)
+            + fields * FIELD_SECONDS_PER_ELEMENT)
+            * nx
+            * ny,
         parts: vec![
             Part {
                 what: format!("model ({nx} × {ny} elements)"),
