@@ -67,7 +67,6 @@ struct Planned {
     name: &'static str,
     case: FreundCase,
     study: Study,
-    fem: fem::Scene,
     spectral: spectral::Scene,
 }
 
@@ -123,7 +122,6 @@ fn plan_case(path: &Path, name: &'static str, mode: Mode, fine: bool) -> Result<
     Ok(Planned {
         name,
         case,
-        fem: study.fem.clone(),
         study,
         spectral,
     })
@@ -160,7 +158,7 @@ pub fn run(options: &Options, dir: &Path, rep: &dyn Reporter) -> Result<SuiteRep
     let fems: Vec<(&str, &fem::Scene)> = planned
         .iter()
         .zip(&labels)
-        .map(|(p, l)| (l.0.as_str(), &p.fem))
+        .map(|(p, l)| (l.0.as_str(), &p.study.fem))
         .collect();
     let spectrals: Vec<(&str, &spectral::Scene)> = planned
         .iter()
@@ -184,7 +182,7 @@ pub fn run(options: &Options, dir: &Path, rep: &dyn Reporter) -> Result<SuiteRep
         let fem_dir = d.join("fem");
         tasks.push(Box::new(move || {
             let job = Job {
-                scene: &p.fem,
+                scene: &p.study.fem,
                 label: &l.0,
                 dir: &fem_dir,
                 keep: Keep::Everything,
@@ -242,7 +240,7 @@ fn measure(
     fem_out: &fem::RunOutput,
     spectral_out: &spectral::RunOutput,
 ) -> Result<(Vec<SuiteRow>, Vec<PathBuf>)> {
-    let centre = p.fem.crack.map_or(0.0, |c| c.center_x);
+    let centre = p.study.fem.crack.map_or(0.0, |c| c.center_x);
     let fem_points: Vec<(f64, f64)> = fem_out
         .arrivals
         .iter()
@@ -379,7 +377,7 @@ mod tests {
                 assert!((c.lp - 8.81e-3).abs() < 1e-4, "{name}: l_p = {}", c.lp);
                 let v = c.theory_speed(3.0 * c.a0, end);
                 assert!(v > 0.0 && v < c.material.rayleigh_speed(), "{name}: {v}");
-                let h = p.fem.fem.element_size;
+                let h = p.study.fem.fem.element_size;
                 assert!(
                     (h - if fine { 5e-4 } else { 1e-3 }).abs() < 1e-12,
                     "{name}: h = {h}"
