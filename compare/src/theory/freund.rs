@@ -361,18 +361,20 @@ pub fn seismic_ratio(tau_s: f64, tau_0: f64, tau_d: f64) -> Option<f64> {
     (finite && tau_0 > tau_d && tau_s >= tau_0).then(|| (tau_s - tau_0) / (tau_0 - tau_d))
 }
 
-/// Critical half-length `L_c` [m] of Andrews (1976) for linear slip weakening (strength falls from
+/// Critical length `L_c` [m] of Andrews (1976) for linear slip weakening (strength falls from
 /// `tau_s` to `tau_d` [Pa] over slip `dc` [m]; initial stress `tau_0` [Pa]; shear modulus `mu` [Pa],
-/// Poisson's ratio `nu` [-]): `L_c = μ' D_c (τ_s − τ_d)/(π (τ_0 − τ_d)²)`, `μ' = μ/(1 − ν)`.
+/// Poisson's ratio `nu` [-]): `L_c = [(λ + μ)/(λ + 2μ)] μ D_c (τ_s − τ_d)/(π (τ_0 − τ_d)²)
+/// = μ D_c (τ_s − τ_d)/(2π (1 − ν) (τ_0 − τ_d)²)`.
 ///
-/// This is the plane-strain Griffith half-length [`griffith_length`] with fracture energy
-/// `G_c = (τ_s − τ_d) D_c / 2` and load `Δτ = τ_0 − τ_d`: the length convention the coefficient
-/// 9.8 of [`andrews_transition_distance`] is quoted with. `None` unless `τ_0 > τ_d`, `τ_s > τ_d`,
-/// `dc > 0`, `mu > 0`, `−1 < ν < 1/2` and all finite.
+/// This is half the plane-strain Griffith half-length [`griffith_length`] with fracture energy
+/// `G_c = (τ_s − τ_d) D_c / 2` and load `Δτ = τ_0 − τ_d`, the length the coefficient 9.8 of
+/// [`andrews_transition_distance`] is quoted with (docs/spectral-model.md §7.7, whose test of the
+/// spectral model uses the same). `None` unless `τ_0 > τ_d`, `τ_s > τ_d`, `dc > 0`, `mu > 0`,
+/// `−1 < ν < 1/2` and all finite.
 pub fn andrews_critical_length(mu: f64, nu: f64, dc: f64, tau_s: f64, tau_0: f64, tau_d: f64) -> Option<f64> {
     let finite = [mu, nu, dc, tau_s, tau_0, tau_d].iter().all(|x| x.is_finite());
     let valid = finite && tau_0 > tau_d && tau_s > tau_d && dc > 0.0 && mu > 0.0 && nu > -1.0 && nu < 0.5;
-    valid.then(|| griffith_length(mu, nu, 0.5 * (tau_s - tau_d) * dc, tau_0 - tau_d))
+    valid.then(|| 0.5 * griffith_length(mu, nu, 0.5 * (tau_s - tau_d) * dc, tau_0 - tau_d))
 }
 
 /// Andrews' (1976) fit for the rupture half-length [m] (propagation distance from the centre of a

@@ -301,7 +301,11 @@ fn griffith_and_andrews_lengths() {
     let s = seismic_ratio(tau_s, tau_0, tau_d).expect("invariant: valid stresses");
     assert!((s - 1.0).abs() < 1e-12);
     let la = andrews_critical_length(mu, nu, dc, tau_s, tau_0, tau_d).expect("invariant: valid input");
-    let direct = mu / (1.0 - nu) * dc * (tau_s - tau_d) / (PI * (tau_0 - tau_d).powi(2));
+    // (λ + μ)/(λ + 2μ) = 1/(2(1 − ν)): half the Griffith half-length
+    let direct = mu * dc * (tau_s - tau_d) / (2.0 * PI * (1.0 - nu) * (tau_0 - tau_d).powi(2));
+    assert!(
+        (la / (0.5 * griffith_length(mu, nu, 0.5 * (tau_s - tau_d) * dc, tau_0 - tau_d)) - 1.0).abs() < 1e-12
+    );
     assert!((la / direct - 1.0).abs() < 1e-12);
     let l = andrews_transition_distance(s, la).expect("invariant: S < 1.77");
     assert!((l / (9.8 * la / 0.77_f64.powi(3)) - 1.0).abs() < 1e-12);
