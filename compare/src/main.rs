@@ -54,8 +54,8 @@ struct Common {
     /// interface has fully failed).
     #[arg(long, global = true, value_name = "RULE")]
     friction_rule: Option<RuleArg>,
-    /// METRIC@MU, comma-separated: metrics of the comparison or `converged` that are known to
-    /// fail and whose decision is open (docs/cases.md). They are still printed, with their value
+    /// METRIC@MU, comma-separated (for `suite`, CASE:METRIC): metrics of the comparison,
+    /// `converged` or `suite` that are known to fail and whose decision is open (docs/cases.md). They are still printed, with their value
     /// and tolerance, and marked open; they do not set the exit code. Each must fail: a listed
     /// metric that passes is an error, so the list cannot outlive its cause.
     #[arg(long, global = true, value_name = "METRIC@MU", value_delimiter = ',')]
@@ -122,6 +122,11 @@ enum Job {
         /// At half the scenes' element size, the spectral grid to match (docs/results.md).
         #[arg(long)]
         fine: bool,
+        /// A folder where the comparison of the centre crack already ran at the suite's
+        /// resolution (`compare --out DIR`; with --fine, `compare converged --out DIR`): the
+        /// suite's first case is measured from its tip files instead of running it again.
+        #[arg(long, value_name = "DIR")]
+        gate: Option<PathBuf>,
     },
     /// Paper Section 5 outlook: the same study on a self-affine rough weak interface
     /// (fem.interface_rough), standard against hybrid model, with the same metrics, CSVs and
@@ -263,8 +268,8 @@ fn real_main() -> Result<bool> {
     if let Some(passed) = before_scene(&matches, &cli)? {
         return Ok(passed);
     }
-    if let Some(Job::Suite { fine }) = cli.job {
-        return suite(&matches, &cli.common, fine);
+    if let Some(Job::Suite { fine, gate }) = cli.job {
+        return suite(&matches, &cli.common, fine, gate);
     }
     let file = match cli.job {
         Some(Job::Sinusoid) => compare::sinusoid::SCENE,
@@ -318,13 +323,10 @@ fn real_main() -> Result<bool> {
     }
 }
 
-/// `suite`: its cases are the scenes of scenes/suite, so it takes no --scene.
-fn suite(matches: &ArgMatches, common: &Common, fine: bool) -> Result<bool> {
-    for (id, flag) in [
-        ("scene", "--scene"),
-        ("open", "--open"),
-        ("friction_rule", "--friction-rule"),
-    ] {
+/// `suite`: its cases are the scenes of scenes/suite and the centre crack, so it takes no
+/// --scene; its --open lists CASE:METRIC.
+fn suite(matches: &ArgMatches, common: &Common, fine: bool, gate: Option<PathBuf>) -> Result<bool> {
+    for (id, flag) in [("scene", "--scene"), ("friction_rule", "--friction-rule")] {
         anyhow::ensure!(
             !given(matches, id),
             "{flag}: not taken by `suite`, which runs the scenes of scenes/suite as they are"
@@ -337,8 +339,20 @@ fn suite(matches: &ArgMatches, common: &Common, fine: bool) -> Result<bool> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("out").join(if fine { "suite-fine" } else { "suite" }));
+    for o in &common.open {
+        anyhow::ensure!(
+            o.contains(':'),
+            "--open {o}: `suite` takes CASE:METRIC as it prints them, e.g. \
+             center-crack:tip_position_rms_over_a@0.3"
+        );
+    }
+    if let Some(g) = &gate {
+        anyhow::ensure!(g.is_dir(), "--gate {}: no such folder", g.display());
+    }
     let options = compare::suite::Options {
         scenes: default_scene("suite"),
+        center_crack: default_scene("center-crack.toml"),
+        gate,
         fine,
         budget: common.budget.budget(),
         concurrent_runs: common.concurrent_runs.map(|n| n as usize),
@@ -348,7 +362,7 @@ fn suite(matches: &ArgMatches, common: &Common, fine: bool) -> Result<bool> {
         preflight::stop::on_signal().map_err(|e| anyhow!(e))?,
     );
     let report = compare::suite::run(&options, &dir, &bars)?;
-    Ok(compare::suite::print_report(&report, &dir))
+    compare::suite::print_report(&report, &dir, &common.open)
 }
 
 /// The options that change the study, checked: `--friction-rule` (its output-folder suffix

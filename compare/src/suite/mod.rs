@@ -1,14 +1,17 @@
 //! The cross-check suite (docs/claims.md, "Cross-checks beyond the paper"): canonical problems of
-//! dynamic fracture, each run in both models and measured against its analytic answer. Today its
-//! cases are Freund's crack under uniform shear and under uniform tension
-//! (`scenes/suite/freund-mode2.toml`, `freund-mode1.toml`): an FE box that carries the far field on
-//! every side and lets the scattered waves out, and the spectral model's unbounded body.
+//! dynamic fracture, each run in both models and measured against its analytic answer. Its cases
+//! are Freund's crack under uniform shear and under uniform tension
+//! (`scenes/suite/freund-mode2.toml`, `freund-mode1.toml`), and Andrews' supershear transition
+//! under slip weakening at four seismic ratios (`andrews-s*.toml`): an FE box that carries the far
+//! field on every side and lets the scattered waves out, and the spectral model's unbounded body.
 //!
 //! For each case it writes a folder with both models' tip histories (`fem.csv`, `spectral.csv`:
 //! `t,tip_right,tip_left` [s, m, m], the gate's tip files), the speeds at each crack length
-//! (`speeds.csv`), each model's full output and the figure `speed.png`; and `suite.csv` with
-//! `case,metric,value,tolerance,pass`.
+//! (`speeds.csv` for Freund, `front_speeds.csv` for Andrews), each model's full output and the
+//! figure `speed.png`; and `suite.csv` with `case,metric,value,tolerance,pass`.
 
+pub mod andrews;
+pub mod center;
 mod figure;
 pub mod metrics;
 
@@ -17,14 +20,39 @@ use crate::output::write_rows;
 use crate::runner::{Finished, Job, Keep, Reporter, fem_tips, run_fem, run_spectral, spectral_tips};
 use crate::study::Study;
 use crate::theory::freund::{Material, Mode};
+use andrews::{AndrewsCase, FrontMeasure};
 use anyhow::{Context, Result, anyhow, bail};
 use metrics::{FreundCase, SpeedRow, speed_rows, worst};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
-/// The cases, in the order they run and are reported: (name, theory mode). Each is the scene
+/// Which theory a case is measured against.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Theory {
+    /// Freund's equation of motion in this mode.
+    Freund(Mode),
+    /// Andrews' supershear transition.
+    Andrews,
+}
+
+/// The cases, in the order they run and are reported: (name, theory). Each is the scene
 /// `scenes/suite/<name>.toml`.
-pub const CASES: [(&str, Mode); 2] = [("freund-mode2", Mode::II), ("freund-mode1", Mode::I)];
+pub const CASES: [(&str, Theory); 6] = [
+    ("freund-mode2", Theory::Freund(Mode::II)),
+    ("freund-mode1", Theory::Freund(Mode::I)),
+    ("andrews-s0.8", Theory::Andrews),
+    ("andrews-s1.0", Theory::Andrews),
+    ("andrews-s1.2", Theory::Andrews),
+    ("andrews-s2.5", Theory::Andrews),
+];
+
+/// FE and spectral transition half-lengths agree within this share of the spectral one [-].
+pub const TRANSITION_TOLERANCE: f64 = 0.10;
+
+/// Each model's transition half-length lies within this factor of Andrews' fit [-]: the fit
+/// belongs to Andrews' nucleation, and ours (a pre-crack at the residual strength, loads ramped)
+/// differs.
+pub const ANDREWS_FACTOR: f64 = 2.0;
 
 /// FE tip speeds agree with the spectral ones at each crack length from 1.2 a₀ to 3 a₀ within this
 /// share of the spectral speed [-]: the gate's tolerance on the mean speeds (docs/outputs.md).
@@ -41,8 +69,8 @@ pub const LENGTH_TOLERANCE: f64 = 1.0;
 pub struct SuiteRow {
     /// The case.
     pub case: String,
-    /// Metric name.
-    pub metric: &'static str,
+    /// Metric name (the centre crack's: `METRIC@MU`, as the comparison prints them).
+    pub metric: String,
     /// Measured value (NaN: a model never reached a length the metric needs).
     pub value: f64,
     /// The acceptance condition, e.g. `<= 0.05`.
@@ -62,10 +90,17 @@ pub struct SuiteReport {
     pub wall_s: f64,
 }
 
+/// A case's scales.
+#[derive(Debug, Clone, Copy)]
+enum Case {
+    Freund(FreundCase),
+    Andrews(AndrewsCase),
+}
+
 /// One case, read and checked: its name, scale and both scenes.
 struct Planned {
     name: &'static str,
-    case: FreundCase,
+    case: Case,
     study: Study,
     spectral: spectral::Scene,
 }
@@ -75,9 +110,9 @@ struct Planned {
 fn plan(scenes_dir: &Path, fine: bool) -> Result<Vec<Planned>> {
     let mut problems = Vec::new();
     let mut planned = Vec::new();
-    for (name, mode) in CASES {
+    for (name, theory) in CASES {
         let path = scenes_dir.join(format!("{name}.toml"));
-        match plan_case(&path, name, mode, fine) {
+        match plan_case(&path, name, theory, fine) {
             Ok(p) => planned.push(p),
             Err(e) => problems.push(format!("{name}: {e:#}")),
         }
@@ -88,7 +123,7 @@ fn plan(scenes_dir: &Path, fine: bool) -> Result<Vec<Planned>> {
     Ok(planned)
 }
 
-fn plan_case(path: &Path, name: &'static str, mode: Mode, fine: bool) -> Result<Planned> {
+fn plan_case(path: &Path, name: &'static str, theory: Theory, fine: bool) -> Result<Planned> {
     let study = Study::load(path)?;
     let study = if fine {
         study.at_resolution(0.5 * study.fem.fem.element_size)?
@@ -100,6 +135,18 @@ fn plan_case(path: &Path, name: &'static str, mode: Mode, fine: bool) -> Result<
         .clone()
         .ok_or_else(|| anyhow!("{}: no [spectral] section", path.display()))?;
     let s = &study.fem;
+    let mode = match theory {
+        Theory::Freund(mode) => mode,
+        Theory::Andrews => {
+            let case = AndrewsCase::from_scene(s).with_context(|| path.display().to_string())?;
+            return Ok(Planned {
+                name,
+                case: Case::Andrews(case),
+                study,
+                spectral,
+            });
+        }
+    };
     let (crack, law) = match (s.crack, s.interface) {
         (Some(c), Some(l)) => (c, l),
         _ => bail!("{}: a Freund case needs [crack] and [interface]", path.display()),
@@ -107,7 +154,7 @@ fn plan_case(path: &Path, name: &'static str, mode: Mode, fine: bool) -> Result<
     let m = s.material;
     let c = m.wave_speeds();
     let mu_prime = m.shear_modulus / (1.0 - m.poisson_ratio);
-    let case = FreundCase {
+    let case = Case::Freund(FreundCase {
         mode,
         a0: crack.half_length,
         lp: 9.0 * std::f64::consts::PI / 32.0 * mu_prime * law.delta_c / law.sigma_c,
@@ -118,7 +165,7 @@ fn plan_case(path: &Path, name: &'static str, mode: Mode, fine: bool) -> Result<
             Mode::I => s.loading.normal,
             Mode::II => s.loading.shear,
         },
-    };
+    });
     Ok(Planned {
         name,
         case,
@@ -138,6 +185,11 @@ enum Ran {
 pub struct Options {
     /// The folder of the cases' scenes (`scenes/suite`).
     pub scenes: PathBuf,
+    /// The centre crack's scene (`scenes/center-crack.toml`).
+    pub center_crack: PathBuf,
+    /// A folder where the comparison of the centre crack already ran (at the suite's resolution):
+    /// its metrics are computed from its tip files instead of running it again.
+    pub gate: Option<PathBuf>,
     /// At half the scenes' element size (and the spectral grid to match).
     pub fine: bool,
     /// The most one run may cost.
@@ -150,7 +202,28 @@ pub struct Options {
 /// budget and the output folder, before the first run.
 pub fn run(options: &Options, dir: &Path, rep: &dyn Reporter) -> Result<SuiteReport> {
     let start = std::time::Instant::now();
-    let planned = plan(&options.scenes, options.fine)?;
+    let center = center::study(&options.center_crack, options.fine).map(|c| Study {
+        budget: options.budget,
+        concurrent_runs: options.concurrent_runs,
+        ..c
+    });
+    let planned = plan(&options.scenes, options.fine);
+    let (center, planned) = match (center, planned) {
+        (Ok(c), Ok(p)) => (c, p),
+        (c, p) => {
+            let problems: Vec<String> = [c.err(), p.err()]
+                .into_iter()
+                .flatten()
+                .map(|e| format!("{e:#}"))
+                .collect();
+            bail!("{}", problems.join("\n"));
+        }
+    };
+    // the centre crack first: read from an earlier comparison before any run, or run
+    let mut rows = match &options.gate {
+        Some(gate) => center::from_folder(&center, options.fine, gate)?,
+        None => Vec::new(),
+    };
     let labels: Vec<(String, String)> = planned
         .iter()
         .map(|p| (format!("FE        {}", p.name), format!("spectral  {}", p.name)))
@@ -175,6 +248,9 @@ pub fn run(options: &Options, dir: &Path, rep: &dyn Reporter) -> Result<SuiteRep
         rayon::current_num_threads(),
         options.concurrent_runs,
     );
+    if options.gate.is_none() {
+        rows = center::run(&center, options.fine, &dir.join(center::NAME), rep)?;
+    }
     rep.planned(&plan.with_lanes(lanes));
     let dirs: Vec<PathBuf> = planned.iter().map(|p| dir.join(p.name)).collect();
     let mut tasks: Vec<Task<Ran>> = Vec::new();
@@ -218,7 +294,6 @@ pub fn run(options: &Options, dir: &Path, rep: &dyn Reporter) -> Result<SuiteRep
             _ => bail!("invariant: the spectral runs follow"),
         }
     }
-    let mut rows = Vec::new();
     let mut files = Vec::new();
     for (((p, d), f), s) in planned.iter().zip(&dirs).zip(&fems_out).zip(&spectral_out) {
         let (case_rows, case_files) = measure(p, d, f, s)?;
@@ -240,34 +315,145 @@ fn measure(
     fem_out: &fem::RunOutput,
     spectral_out: &spectral::RunOutput,
 ) -> Result<(Vec<SuiteRow>, Vec<PathBuf>)> {
-    let centre = p.study.fem.crack.map_or(0.0, |c| c.center_x);
-    let fem_points: Vec<(f64, f64)> = fem_out
-        .arrivals
-        .iter()
-        .map(|r| ((r.x - centre).abs(), r.failure_time))
-        .filter(|(a, t)| *a > p.case.a0 && t.is_finite())
-        .collect();
-    let spectral_points: Vec<(f64, f64)> = spectral_out
-        .tips
-        .iter()
-        .map(|r| (0.5 * (r.tip_right - r.tip_left), r.t))
-        .filter(|(a, _)| *a > p.case.a0)
-        .collect();
-    let speeds = speed_rows(&p.case, &fem_points, &spectral_points);
     let mut files = vec![
         write_tip_file(&dir.join("fem.csv"), &fem_tips(fem_out))?,
         write_tip_file(&dir.join("spectral.csv"), &spectral_tips(spectral_out))?,
-        write_rows(&dir.join("speeds.csv"), &speeds)?,
     ];
-    files.push(figure::draw(&dir.join("speed.png"), p.name, &p.case, &speeds)?);
-    Ok((case_rows(p.name, &speeds), files))
+    let centre = p.study.fem.crack.map_or(0.0, |c| c.center_x);
+    let rows = match &p.case {
+        Case::Freund(case) => {
+            let fem_points: Vec<(f64, f64)> = fem_out
+                .arrivals
+                .iter()
+                .map(|r| ((r.x - centre).abs(), r.failure_time))
+                .filter(|(a, t)| *a > case.a0 && t.is_finite())
+                .collect();
+            let spectral_points: Vec<(f64, f64)> = spectral_out
+                .tips
+                .iter()
+                .map(|r| (0.5 * (r.tip_right - r.tip_left), r.t))
+                .filter(|(a, _)| *a > case.a0)
+                .collect();
+            let speeds = speed_rows(case, &fem_points, &spectral_points);
+            files.push(write_rows(&dir.join("speeds.csv"), &speeds)?);
+            files.push(figure::draw(&dir.join("speed.png"), p.name, case, &speeds)?);
+            case_rows(p.name, &speeds)
+        }
+        Case::Andrews(case) => {
+            let points: Vec<(f64, f64)> = fem_out.arrivals.iter().map(|r| (r.x, r.failure_time)).collect();
+            let fem_front = andrews::contiguous_front(&points, centre, case.a0);
+            let spectral_front = andrews::spectral_front(&spectral_out.tips, case.a0);
+            // both fronts are read over the half-lengths both reached, short of the last
+            // process zone (the FE box's side)
+            let reach = [andrews::reach(&fem_front), andrews::reach(&spectral_front)];
+            let a_end = reach[0].min(reach[1]) - case.lp;
+            let speeds = andrews::speed_rows(case, &fem_front, &spectral_front, a_end);
+            let fem_m = andrews::measure_front(case, &fem_front, a_end);
+            let spectral_m = andrews::measure_front(case, &spectral_front, a_end);
+            files.push(write_rows(&dir.join("front_speeds.csv"), &speeds)?);
+            files.push(figure::draw_andrews(
+                &dir.join("speed.png"),
+                p.name,
+                case,
+                &speeds,
+                [fem_m.transition, spectral_m.transition],
+            )?);
+            andrews_rows(p.name, case, [fem_m, spectral_m], reach)
+        }
+    };
+    Ok((rows, files))
+}
+
+/// The metrics of an Andrews case from each model's front (FE, spectral) and how far each front
+/// reached [m]. Below S = 1.77: the transition half-lengths agree, each lies within a factor of
+/// Andrews' fit, and each supershear front runs between √2 c_s and c_d. Above: neither front
+/// exceeds c_s, over a crack that ran at least [`andrews::REACH_MIN`] initial half-lengths.
+fn andrews_rows(name: &str, case: &AndrewsCase, m: [FrontMeasure; 2], reach: [f64; 2]) -> Vec<SuiteRow> {
+    let row = |metric: &str, value: f64, tolerance: String, pass: bool| SuiteRow {
+        case: name.to_string(),
+        metric: metric.to_string(),
+        value,
+        tolerance,
+        pass: pass && !value.is_nan(),
+    };
+    let tr = |k: usize| m[k].transition.unwrap_or(f64::NAN);
+    let Some(andrews) = case.andrews_distance() else {
+        let max = |k: usize| m[k].max_speed / case.cs;
+        let reached = |k: usize| reach[k] / case.a0;
+        return vec![
+            row(
+                "fem_front_speed_max_over_cs",
+                max(0),
+                "<= 1".into(),
+                max(0) <= 1.0,
+            ),
+            row(
+                "spectral_front_speed_max_over_cs",
+                max(1),
+                "<= 1".into(),
+                max(1) <= 1.0,
+            ),
+            row(
+                "fem_reach_over_a0",
+                reached(0),
+                format!(">= {}", andrews::REACH_MIN),
+                reached(0) >= andrews::REACH_MIN,
+            ),
+            row(
+                "spectral_reach_over_a0",
+                reached(1),
+                format!(">= {}", andrews::REACH_MIN),
+                reached(1) >= andrews::REACH_MIN,
+            ),
+        ];
+    };
+    let difference = (tr(0) - tr(1)).abs() / tr(1);
+    let factor = |k: usize| tr(k) / andrews;
+    let within = |x: f64| (1.0 / ANDREWS_FACTOR..=ANDREWS_FACTOR).contains(&x);
+    let bounds = (std::f64::consts::SQRT_2, case.cd / case.cs);
+    let speed = |k: usize| m[k].supershear_speed / case.cs;
+    let in_bounds = |v: f64| v > bounds.0 && v < bounds.1;
+    let range = format!("in ({:.4}, {:.4})", bounds.0, bounds.1);
+    let fit = format!("in [{}, {}]", 1.0 / ANDREWS_FACTOR, ANDREWS_FACTOR);
+    vec![
+        row(
+            "transition_difference",
+            difference,
+            format!("<= {TRANSITION_TOLERANCE}"),
+            difference <= TRANSITION_TOLERANCE,
+        ),
+        row(
+            "fem_transition_over_andrews",
+            factor(0),
+            fit.clone(),
+            within(factor(0)),
+        ),
+        row(
+            "spectral_transition_over_andrews",
+            factor(1),
+            fit,
+            within(factor(1)),
+        ),
+        row(
+            "fem_supershear_speed_over_cs",
+            speed(0),
+            range.clone(),
+            in_bounds(speed(0)),
+        ),
+        row(
+            "spectral_supershear_speed_over_cs",
+            speed(1),
+            range,
+            in_bounds(speed(1)),
+        ),
+    ]
 }
 
 /// The metrics of one case.
 fn case_rows(case: &str, speeds: &[SpeedRow]) -> Vec<SuiteRow> {
-    let row = |metric, value: f64, limit: f64| SuiteRow {
+    let row = |metric: &str, value: f64, limit: f64| SuiteRow {
         case: case.to_string(),
-        metric,
+        metric: metric.to_string(),
         value,
         tolerance: format!("<= {limit}"),
         pass: value <= limit,
@@ -325,64 +511,137 @@ fn write_tip_file(path: &Path, rows: &[crate::series::TipRow]) -> Result<PathBuf
     write_rows(path, &tips).with_context(|| format!("writing {}", path.display()))
 }
 
-/// Prints the metrics table and the files written; true when every metric passes.
-pub fn print_report(report: &SuiteReport, dir: &Path) -> bool {
+/// The key of a row in `--open`: `CASE:METRIC`.
+fn key(r: &SuiteRow) -> String {
+    format!("{}:{}", r.case, r.metric)
+}
+
+/// The failing rows' keys, after checking that every key of `open` names a row that fails (a
+/// listed metric that passes is an error, so the list cannot outlive its cause).
+pub fn open_rows(rows: &[SuiteRow], open: &[String]) -> Result<Vec<String>> {
+    for o in open {
+        match rows.iter().find(|r| key(r) == *o) {
+            None => bail!("--open {o}: the suite has no such metric (CASE:METRIC as printed)"),
+            Some(r) if r.pass => bail!(
+                "--open {o}: the metric passes ({} {}); remove it from --open",
+                r.value,
+                r.tolerance
+            ),
+            Some(_) => {}
+        }
+    }
+    Ok(rows.iter().filter(|r| !r.pass).map(key).collect())
+}
+
+/// Prints the metrics table and the files written; true when every metric passes or fails as
+/// listed in `open` (`CASE:METRIC`: printed as `open`, out of the exit code).
+pub fn print_report(report: &SuiteReport, dir: &Path, open: &[String]) -> Result<bool> {
     println!(
-        "{:<16} {:<44} {:>10} {:>10} {:>6}",
+        "{:<16} {:<44} {:>10} {:>22} {:>6}",
         "case", "metric", "value", "tolerance", "pass"
     );
     for r in &report.rows {
         println!(
-            "{:<16} {:<44} {:>10.5} {:>10} {:>6}",
+            "{:<16} {:<44} {:>10.5} {:>22} {:>6}",
             r.case,
             r.metric,
             r.value,
             r.tolerance,
-            if r.pass { "yes" } else { "NO" }
+            match (r.pass, open.contains(&key(r))) {
+                (true, _) => "yes",
+                (false, true) => "open",
+                (false, false) => "NO",
+            }
         );
     }
-    let failed = report.rows.iter().filter(|r| !r.pass).count();
     println!(
         "\n{} files written to {} in {:.0} s",
         report.files.len(),
         dir.display(),
         report.wall_s
     );
-    if failed > 0 {
-        println!("{failed} metric(s) FAIL");
+    let failing = open_rows(&report.rows, open)?;
+    let closed = failing.iter().filter(|f| !open.contains(f)).count();
+    match (failing.len(), closed) {
+        (0, _) => println!("all metrics within tolerance"),
+        (n, 0) => println!(
+            "{n} metric(s) FAIL, all open (decision pending): {}",
+            failing.join(", ")
+        ),
+        (n, c) => println!("{n} metric(s) FAIL ({c} not open)"),
     }
-    failed == 0
+    Ok(closed == 0)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// Both cases read and check, each with the pre-crack its scene states: 1.1 times the Griffith
-    /// length of the final load (so that the crack starts near the end of the ramp), a process
-    /// zone of 8.8 mm, and a theory whose speed at 3 a₀ is below c_R. The fine variant halves the
-    /// element size and keeps everything else.
+    /// Every case reads and checks. The Freund cases have the pre-crack their scenes state: 1.1
+    /// times the Griffith length of the final load (so that the crack starts near the end of the
+    /// ramp), a process zone of 8.8 mm, and a theory whose speed at 3 a₀ is below c_R. The Andrews
+    /// cases have the seismic ratio of their name, a pre-crack of 1.2 a_c to the nearest node
+    /// (1.17 to 1.21), the same process zone, and a box long enough for Andrews' transition
+    /// (or, at S = 2.5, for the reach the metric asks). The fine variant halves the element size
+    /// and keeps everything else.
     #[test]
-    fn the_cases_are_freund_cracks_a_little_longer_than_griffith() {
+    fn the_cases_are_the_scenes_their_names_say() {
         let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/suite");
         for fine in [false, true] {
             let planned = plan(&dir, fine).unwrap();
             assert_eq!(planned.len(), CASES.len());
-            for (p, (name, mode)) in planned.iter().zip(CASES) {
-                let c = &p.case;
-                assert_eq!((p.name, c.mode), (name, mode));
-                let end = c.load.ramp_end;
-                let ratio = c.a0 / c.griffith_length(end);
-                assert!((ratio - 1.1).abs() < 1e-6, "{name}: a0/L_c = {ratio}");
-                assert!((c.lp - 8.81e-3).abs() < 1e-4, "{name}: l_p = {}", c.lp);
-                let v = c.theory_speed(3.0 * c.a0, end);
-                assert!(v > 0.0 && v < c.material.rayleigh_speed(), "{name}: {v}");
+            for (p, (name, theory)) in planned.iter().zip(CASES) {
+                assert_eq!(p.name, name);
                 let h = p.study.fem.fem.element_size;
                 assert!(
                     (h - if fine { 5e-4 } else { 1e-3 }).abs() < 1e-12,
                     "{name}: h = {h}"
                 );
+                match (&p.case, theory) {
+                    (Case::Freund(c), Theory::Freund(mode)) => {
+                        assert_eq!(c.mode, mode);
+                        let end = c.load.ramp_end;
+                        let ratio = c.a0 / c.griffith_length(end);
+                        assert!((ratio - 1.1).abs() < 1e-6, "{name}: a0/L_c = {ratio}");
+                        assert!((c.lp - 8.81e-3).abs() < 1e-4, "{name}: l_p = {}", c.lp);
+                        let v = c.theory_speed(3.0 * c.a0, end);
+                        assert!(v > 0.0 && v < c.material.rayleigh_speed(), "{name}: {v}");
+                    }
+                    (Case::Andrews(c), Theory::Andrews) => {
+                        let s: f64 = name.trim_start_matches("andrews-s").parse().unwrap();
+                        assert!((c.s - s).abs() < 1e-6, "{name}: S = {}", c.s);
+                        let ratio = c.a0 / c.ac;
+                        assert!((1.165..1.21).contains(&ratio), "{name}: a0/a_c = {ratio}");
+                        assert!((c.lp - 8.81e-3).abs() < 1e-4, "{name}: Λ0 = {}", c.lp);
+                        let half = p.study.fem.fem.x_range[1];
+                        let needed = c.andrews_distance().unwrap_or(andrews::REACH_MIN * c.a0);
+                        assert!(half > needed, "{name}: box {half} m, needs {needed} m");
+                    }
+                    _ => panic!("{name}: the wrong kind of case"),
+                }
             }
         }
+    }
+
+    /// `--open` takes only rows that exist and fail; the failing keys come back whatever is open.
+    #[test]
+    fn open_lists_only_failing_rows() {
+        let row = |case: &str, metric: &str, pass| SuiteRow {
+            case: case.into(),
+            metric: metric.into(),
+            value: 1.0,
+            tolerance: "<= 0.5".into(),
+            pass,
+        };
+        let rows = [row("a", "x", true), row("a", "y", false), row("b", "x", false)];
+        assert_eq!(
+            open_rows(&rows, &[]).unwrap(),
+            vec!["a:y".to_string(), "b:x".to_string()]
+        );
+        assert!(open_rows(&rows, &["a:y".into()]).is_ok());
+        let passes = open_rows(&rows, &["a:x".into()]).unwrap_err().to_string();
+        assert!(passes.contains("passes"), "{passes}");
+        let missing = open_rows(&rows, &["c:x".into()]).unwrap_err().to_string();
+        assert!(missing.contains("no such metric"), "{missing}");
     }
 }
