@@ -14,10 +14,19 @@
 //! below c_R in the continuum; a threshold of c_s, just above c_R, would also count a discretised
 //! sub-Rayleigh front that overshoots c_R (docs/results.md gives both).
 
+use super::SuiteRow;
 use super::metrics::speed_at;
 use crate::theory::freund::{andrews_critical_length, andrews_transition_distance, seismic_ratio};
 use anyhow::{Result, anyhow, bail, ensure};
 use serde::Serialize;
+
+/// FE and spectral transition half-lengths agree within this share of the spectral one [-].
+pub const TRANSITION_TOLERANCE: f64 = 0.10;
+
+/// Each model's transition half-length lies within this factor of Andrews' fit [-]: the fit
+/// belongs to Andrews' nucleation, and ours (a pre-crack at the residual strength, loads ramped)
+/// differs.
+pub const ANDREWS_FACTOR: f64 = 2.0;
 
 /// The crack must run over at least this many initial half-lengths [-] for "no transition" at
 /// S > 1.77 to mean something: Andrews' S = 1.2 transition lies at 26 a_c there.
@@ -216,6 +225,70 @@ pub fn speed_rows(
             spectral_speed: speed_at(spectral, a, case.lp).map_or(f64::NAN, |s| s.v),
         })
         .collect()
+}
+
+/// The metrics of an Andrews case from each model's front (FE, spectral) and how far each front
+/// reached [m]. Below S = 1.77: the transition half-lengths agree, each lies within a factor of
+/// Andrews' fit, and each supershear front runs between √2 c_s and c_d. Above: neither front
+/// exceeds c_s, over a crack that ran at least [`REACH_MIN`] initial half-lengths.
+pub fn rows(name: &str, case: &AndrewsCase, m: [FrontMeasure; 2], reach: [f64; 2]) -> Vec<SuiteRow> {
+    let row = |metric: &str, value: f64, tolerance: String, pass: bool| SuiteRow {
+        case: name.to_string(),
+        metric: metric.to_string(),
+        value,
+        tolerance,
+        pass: pass && !value.is_nan(),
+    };
+    let tr = |k: usize| m[k].transition.unwrap_or(f64::NAN);
+    let Some(andrews) = case.andrews_distance() else {
+        let mut rows = Vec::new();
+        for (k, model) in ["fem", "spectral"].into_iter().enumerate() {
+            let max = m[k].max_speed / case.cs;
+            rows.push(row(
+                &format!("{model}_front_speed_max_over_cs"),
+                max,
+                "<= 1".into(),
+                max <= 1.0,
+            ));
+        }
+        for (k, model) in ["fem", "spectral"].into_iter().enumerate() {
+            let reached = reach[k] / case.a0;
+            rows.push(row(
+                &format!("{model}_reach_over_a0"),
+                reached,
+                format!(">= {}", REACH_MIN),
+                reached >= REACH_MIN,
+            ));
+        }
+        return rows;
+    };
+    let difference = (tr(0) - tr(1)).abs() / tr(1);
+    let mut rows = vec![row(
+        "transition_difference",
+        difference,
+        format!("<= {TRANSITION_TOLERANCE}"),
+        difference <= TRANSITION_TOLERANCE,
+    )];
+    let bounds = (std::f64::consts::SQRT_2, case.cd / case.cs);
+    for (k, model) in ["fem", "spectral"].into_iter().enumerate() {
+        let factor = tr(k) / andrews;
+        rows.push(row(
+            &format!("{model}_transition_over_andrews"),
+            factor,
+            format!("in [{}, {}]", 1.0 / ANDREWS_FACTOR, ANDREWS_FACTOR),
+            (1.0 / ANDREWS_FACTOR..=ANDREWS_FACTOR).contains(&factor),
+        ));
+    }
+    for (k, model) in ["fem", "spectral"].into_iter().enumerate() {
+        let speed = m[k].supershear_speed / case.cs;
+        rows.push(row(
+            &format!("{model}_supershear_speed_over_cs"),
+            speed,
+            format!("in ({:.4}, {:.4})", bounds.0, bounds.1),
+            speed > bounds.0 && speed < bounds.1,
+        ));
+    }
+    rows
 }
 
 #[cfg(test)]

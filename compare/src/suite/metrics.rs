@@ -7,6 +7,7 @@
 //! least-squares slope of t against a over the points within one process zone l_p of a: a
 //! cohesive crack's tip is not defined more finely than its process zone.
 
+use super::SuiteRow;
 use crate::series::least_squares_slope;
 use crate::theory::freund::{Material, Mode};
 use serde::Serialize;
@@ -16,6 +17,16 @@ use serde::Serialize;
 pub fn lengths() -> impl Iterator<Item = f64> {
     (12..=30).map(|k| f64::from(k) / 10.0)
 }
+
+/// FE tip speeds agree with the spectral ones at each crack length from 1.2 a₀ to 3 a₀ within this
+/// share of the spectral speed [-]: the gate's tolerance on the mean speeds (docs/outputs.md).
+pub const SPEED_TOLERANCE: f64 = 0.05;
+
+/// Each model's speed puts its crack, by the theory, within this many process zones l_p of its
+/// measured length [-] (in the theory's speed range): a cohesive crack's tip is not defined more
+/// finely than its process zone, and the equation of motion G = g(v) G_static ∝ a shifts by
+/// l_p/a when a does by l_p.
+pub const LENGTH_TOLERANCE: f64 = 1.0;
 
 /// Speeds are compared with the theory only in this range of v/c_R [-]: below it the crack is
 /// still starting, above it the theory's a(v) = L_c/g(v) is too steep for a speed to fix a length.
@@ -148,6 +159,49 @@ pub fn worst(values: impl Iterator<Item = f64>) -> f64 {
         worst = if k == 0 { v } else { worst.max(v) };
     }
     worst
+}
+
+/// The metrics of a Freund case from its `speeds`.
+pub fn rows(case: &str, speeds: &[SpeedRow]) -> Vec<SuiteRow> {
+    let row = |metric: &str, value: f64, limit: f64| SuiteRow {
+        case: case.to_string(),
+        metric: metric.to_string(),
+        value,
+        tolerance: format!("<= {limit}"),
+        pass: value <= limit,
+    };
+    let in_range = |v: f64| !v.is_nan();
+    vec![
+        row(
+            "speed_difference_max",
+            worst(
+                speeds
+                    .iter()
+                    .map(|s| (s.fem_speed - s.spectral_speed).abs() / s.spectral_speed),
+            ),
+            SPEED_TOLERANCE,
+        ),
+        row(
+            "fem_theory_length_residual_max_over_lp",
+            worst(
+                speeds
+                    .iter()
+                    .map(|s| s.fem_length_residual)
+                    .filter(|v| in_range(*v)),
+            ),
+            LENGTH_TOLERANCE,
+        ),
+        row(
+            "spectral_theory_length_residual_max_over_lp",
+            worst(
+                speeds
+                    .iter()
+                    .map(|s| s.spectral_length_residual)
+                    .filter(|v| in_range(*v)),
+            ),
+            LENGTH_TOLERANCE,
+        ),
+    ]
 }
 
 #[cfg(test)]

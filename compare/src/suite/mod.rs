@@ -14,15 +14,18 @@ pub mod andrews;
 pub mod center;
 mod figure;
 pub mod metrics;
+mod report;
+
+pub use report::{open_rows, print_report};
 
 use crate::concurrent::{Lanes, Task, run_all};
 use crate::output::write_rows;
 use crate::runner::{Finished, Job, Keep, Reporter, fem_tips, run_fem, run_spectral, spectral_tips};
 use crate::study::Study;
 use crate::theory::freund::{Material, Mode};
-use andrews::{AndrewsCase, FrontMeasure};
+use andrews::AndrewsCase;
 use anyhow::{Context, Result, anyhow, bail};
-use metrics::{FreundCase, SpeedRow, speed_rows, worst};
+use metrics::{FreundCase, speed_rows};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -45,24 +48,6 @@ pub const CASES: [(&str, Theory); 6] = [
     ("andrews-s1.2", Theory::Andrews),
     ("andrews-s2.5", Theory::Andrews),
 ];
-
-/// FE and spectral transition half-lengths agree within this share of the spectral one [-].
-pub const TRANSITION_TOLERANCE: f64 = 0.10;
-
-/// Each model's transition half-length lies within this factor of Andrews' fit [-]: the fit
-/// belongs to Andrews' nucleation, and ours (a pre-crack at the residual strength, loads ramped)
-/// differs.
-pub const ANDREWS_FACTOR: f64 = 2.0;
-
-/// FE tip speeds agree with the spectral ones at each crack length from 1.2 a₀ to 3 a₀ within this
-/// share of the spectral speed [-]: the gate's tolerance on the mean speeds (docs/outputs.md).
-pub const SPEED_TOLERANCE: f64 = 0.05;
-
-/// Each model's speed puts its crack, by the theory, within this many process zones l_p of its
-/// measured length [-] (in the theory's speed range): a cohesive crack's tip is not defined more
-/// finely than its process zone, and the equation of motion G = g(v) G_static ∝ a shifts by
-/// l_p/a when a does by l_p.
-pub const LENGTH_TOLERANCE: f64 = 1.0;
 
 /// One row of `suite.csv`.
 #[derive(Debug, Clone, Serialize)]
@@ -337,7 +322,7 @@ fn measure(
             let speeds = speed_rows(case, &fem_points, &spectral_points);
             files.push(write_rows(&dir.join("speeds.csv"), &speeds)?);
             files.push(figure::draw(&dir.join("speed.png"), p.name, case, &speeds)?);
-            case_rows(p.name, &speeds)
+            metrics::rows(p.name, &speeds)
         }
         Case::Andrews(case) => {
             let points: Vec<(f64, f64)> = fem_out.arrivals.iter().map(|r| (r.x, r.failure_time)).collect();
@@ -358,117 +343,10 @@ fn measure(
                 &speeds,
                 [fem_m.transition, spectral_m.transition],
             )?);
-            andrews_rows(p.name, case, [fem_m, spectral_m], reach)
+            andrews::rows(p.name, case, [fem_m, spectral_m], reach)
         }
     };
     Ok((rows, files))
-}
-
-/// The metrics of an Andrews case from each model's front (FE, spectral) and how far each front
-/// reached [m]. Below S = 1.77: the transition half-lengths agree, each lies within a factor of
-/// Andrews' fit, and each supershear front runs between √2 c_s and c_d. Above: neither front
-/// exceeds c_s, over a crack that ran at least [`andrews::REACH_MIN`] initial half-lengths.
-fn andrews_rows(name: &str, case: &AndrewsCase, m: [FrontMeasure; 2], reach: [f64; 2]) -> Vec<SuiteRow> {
-    let row = |metric: &str, value: f64, tolerance: String, pass: bool| SuiteRow {
-        case: name.to_string(),
-        metric: metric.to_string(),
-        value,
-        tolerance,
-        pass: pass && !value.is_nan(),
-    };
-    let tr = |k: usize| m[k].transition.unwrap_or(f64::NAN);
-    let Some(andrews) = case.andrews_distance() else {
-        let mut rows = Vec::new();
-        for (k, model) in ["fem", "spectral"].into_iter().enumerate() {
-            let max = m[k].max_speed / case.cs;
-            rows.push(row(
-                &format!("{model}_front_speed_max_over_cs"),
-                max,
-                "<= 1".into(),
-                max <= 1.0,
-            ));
-        }
-        for (k, model) in ["fem", "spectral"].into_iter().enumerate() {
-            let reached = reach[k] / case.a0;
-            rows.push(row(
-                &format!("{model}_reach_over_a0"),
-                reached,
-                format!(">= {}", andrews::REACH_MIN),
-                reached >= andrews::REACH_MIN,
-            ));
-        }
-        return rows;
-    };
-    let difference = (tr(0) - tr(1)).abs() / tr(1);
-    let mut rows = vec![row(
-        "transition_difference",
-        difference,
-        format!("<= {TRANSITION_TOLERANCE}"),
-        difference <= TRANSITION_TOLERANCE,
-    )];
-    let bounds = (std::f64::consts::SQRT_2, case.cd / case.cs);
-    for (k, model) in ["fem", "spectral"].into_iter().enumerate() {
-        let factor = tr(k) / andrews;
-        rows.push(row(
-            &format!("{model}_transition_over_andrews"),
-            factor,
-            format!("in [{}, {}]", 1.0 / ANDREWS_FACTOR, ANDREWS_FACTOR),
-            (1.0 / ANDREWS_FACTOR..=ANDREWS_FACTOR).contains(&factor),
-        ));
-    }
-    for (k, model) in ["fem", "spectral"].into_iter().enumerate() {
-        let speed = m[k].supershear_speed / case.cs;
-        rows.push(row(
-            &format!("{model}_supershear_speed_over_cs"),
-            speed,
-            format!("in ({:.4}, {:.4})", bounds.0, bounds.1),
-            speed > bounds.0 && speed < bounds.1,
-        ));
-    }
-    rows
-}
-
-/// The metrics of one case.
-fn case_rows(case: &str, speeds: &[SpeedRow]) -> Vec<SuiteRow> {
-    let row = |metric: &str, value: f64, limit: f64| SuiteRow {
-        case: case.to_string(),
-        metric: metric.to_string(),
-        value,
-        tolerance: format!("<= {limit}"),
-        pass: value <= limit,
-    };
-    let in_range = |v: f64| !v.is_nan();
-    vec![
-        row(
-            "speed_difference_max",
-            worst(
-                speeds
-                    .iter()
-                    .map(|s| (s.fem_speed - s.spectral_speed).abs() / s.spectral_speed),
-            ),
-            SPEED_TOLERANCE,
-        ),
-        row(
-            "fem_theory_length_residual_max_over_lp",
-            worst(
-                speeds
-                    .iter()
-                    .map(|s| s.fem_length_residual)
-                    .filter(|v| in_range(*v)),
-            ),
-            LENGTH_TOLERANCE,
-        ),
-        row(
-            "spectral_theory_length_residual_max_over_lp",
-            worst(
-                speeds
-                    .iter()
-                    .map(|s| s.spectral_length_residual)
-                    .filter(|v| in_range(*v)),
-            ),
-            LENGTH_TOLERANCE,
-        ),
-    ]
 }
 
 /// `t,tip_right,tip_left` [s, m, m] of a model's tip rows.
@@ -488,63 +366,6 @@ fn write_tip_file(path: &Path, rows: &[crate::series::TipRow]) -> Result<PathBuf
         })
         .collect();
     write_rows(path, &tips).with_context(|| format!("writing {}", path.display()))
-}
-
-/// The key of a row in `--open`: `CASE:METRIC`.
-fn key(r: &SuiteRow) -> String {
-    format!("{}:{}", r.case, r.metric)
-}
-
-/// The failing rows' keys, after checking that every key of `open` names a row that fails (a
-/// listed metric that passes is an error, so the list cannot outlive its cause).
-pub fn open_rows(rows: &[SuiteRow], open: &[String]) -> Result<Vec<String>> {
-    for o in open {
-        match rows.iter().find(|r| key(r) == *o) {
-            None => bail!("--open {o}: the suite has no such metric (CASE:METRIC as printed)"),
-            Some(r) if r.pass => bail!(
-                "--open {o}: the metric passes ({} {}); remove it from --open",
-                r.value,
-                r.tolerance
-            ),
-            Some(_) => {}
-        }
-    }
-    Ok(rows.iter().filter(|r| !r.pass).map(key).collect())
-}
-
-/// Prints the metrics table and the files written; true when every metric passes or fails as
-/// listed in `open` (`CASE:METRIC`: printed as `open`, out of the exit code).
-pub fn print_report(report: &SuiteReport, dir: &Path, open: &[String]) -> Result<bool> {
-    println!(
-        "{:<16} {:<44} {:>10} {:>22} {:>6}",
-        "case", "metric", "value", "tolerance", "pass"
-    );
-    for r in &report.rows {
-        println!(
-            "{:<16} {:<44} {:>10.5} {:>22} {:>6}",
-            r.case,
-            r.metric,
-            r.value,
-            r.tolerance,
-            match (r.pass, open.contains(&key(r))) {
-                (true, _) => "yes",
-                (false, true) => "open",
-                (false, false) => "NO",
-            }
-        );
-    }
-    println!(
-        "\n{} files written to {} in {:.0} s",
-        report.files.len(),
-        dir.display(),
-        report.wall_s
-    );
-    let failing = open_rows(&report.rows, open)?;
-    Ok(crate::gate::verdict::closing_line(
-        &failing,
-        open,
-        "docs/results.md",
-    ))
 }
 
 #[cfg(test)]
@@ -595,27 +416,5 @@ mod tests {
                 }
             }
         }
-    }
-
-    /// `--open` takes only rows that exist and fail; the failing keys come back whatever is open.
-    #[test]
-    fn open_lists_only_failing_rows() {
-        let row = |case: &str, metric: &str, pass| SuiteRow {
-            case: case.into(),
-            metric: metric.into(),
-            value: 1.0,
-            tolerance: "<= 0.5".into(),
-            pass,
-        };
-        let rows = [row("a", "x", true), row("a", "y", false), row("b", "x", false)];
-        assert_eq!(
-            open_rows(&rows, &[]).unwrap(),
-            vec!["a:y".to_string(), "b:x".to_string()]
-        );
-        assert!(open_rows(&rows, &["a:y".into()]).is_ok());
-        let passes = open_rows(&rows, &["a:x".into()]).unwrap_err().to_string();
-        assert!(passes.contains("passes"), "{passes}");
-        let missing = open_rows(&rows, &["c:x".into()]).unwrap_err().to_string();
-        assert!(missing.contains("no such metric"), "{missing}");
     }
 }
