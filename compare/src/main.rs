@@ -119,7 +119,7 @@ enum Job {
     /// shear and under uniform tension) in both models, each against its analytic answer; writes
     /// suite.csv and one folder per case, and exits non-zero if a metric fails.
     Suite {
-        /// At half the scenes' element size, the spectral grid to match (docs/results.md).
+        /// At half the scenes' element size and spectral grid spacing (docs/results.md).
         #[arg(long)]
         fine: bool,
         /// A folder where the comparison of the centre crack already ran at the suite's

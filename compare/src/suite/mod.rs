@@ -110,15 +110,22 @@ fn plan(scenes_dir: &Path, fine: bool) -> Result<Vec<Planned>> {
 
 fn plan_case(path: &Path, name: &'static str, theory: Theory, fine: bool) -> Result<Planned> {
     let study = Study::load(path)?;
-    let study = if fine {
-        study.at_resolution(0.5 * study.fem.fem.element_size)?
-    } else {
-        study
-    };
-    let spectral = study
+    let scene_spectral = study
         .spectral
         .clone()
         .ok_or_else(|| anyhow!("{}: no [spectral] section", path.display()))?;
+    // fine: both models at half their spacing (the FE element size as `converged` sets it, the
+    // spectral grid twice as dense as the scene's; some scenes' grids are finer than their h)
+    let (study, spectral) = if fine {
+        let study = study.at_resolution(0.5 * study.fem.fem.element_size)?;
+        let n = 2 * scene_spectral.grid_points;
+        let spectral = scene_spectral
+            .with_grid_points(n)
+            .with_context(|| format!("{}: the spectral model on N = {n} points", path.display()))?;
+        (study, spectral)
+    } else {
+        (study, scene_spectral)
+    };
     let s = &study.fem;
     let mode = match theory {
         Theory::Freund(mode) => mode,
@@ -175,7 +182,7 @@ pub struct Options {
     /// A folder where the comparison of the centre crack already ran (at the suite's resolution):
     /// its metrics are computed from its tip files instead of running it again.
     pub gate: Option<PathBuf>,
-    /// At half the scenes' element size (and the spectral grid to match).
+    /// At half the scenes' element size and spectral grid spacing.
     pub fine: bool,
     /// The most one run may cost.
     pub budget: preflight::Budget,
@@ -378,7 +385,7 @@ mod tests {
     /// cases have the seismic ratio of their name, a pre-crack of 1.2 a_c to the nearest node
     /// (1.17 to 1.21), the same process zone, and a box long enough for Andrews' transition
     /// (or, at S = 2.5, for the reach the metric asks). The fine variant halves the element size
-    /// and keeps everything else.
+    /// and the spectral grid spacing and keeps everything else.
     #[test]
     fn the_cases_are_the_scenes_their_names_say() {
         let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/suite");
@@ -392,6 +399,9 @@ mod tests {
                     (h - if fine { 5e-4 } else { 1e-3 }).abs() < 1e-12,
                     "{name}: h = {h}"
                 );
+                let scene = Study::load(&dir.join(format!("{name}.toml"))).unwrap();
+                let n = scene.spectral.unwrap().grid_points;
+                assert_eq!(p.spectral.grid_points, if fine { 2 * n } else { n }, "{name}");
                 match (&p.case, theory) {
                     (Case::Freund(c), Theory::Freund(mode)) => {
                         assert_eq!(c.mode, mode);
