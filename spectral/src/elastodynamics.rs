@@ -19,7 +19,8 @@ use crate::kernels::Kernels;
 use crate::modes::Modes;
 use crate::scene::Convolution;
 
-/// Parameters of the half-space pair (identical materials).
+/// Parameters of the half-space pair (identical materials); for two materials, one set per
+/// half-space, each driving its own [`HalfSpaces`] (see [`Operator`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HalfSpaceParams {
     /// Shear modulus μ [Pa].
@@ -249,6 +250,57 @@ impl HalfSpaces {
             f.top_y[m] = self.a[m].im * scale;
             f.bottom_x[m] = self.b[m].re * scale;
             f.bottom_y[m] = self.b[m].im * scale;
+        }
+    }
+}
+
+/// The operator of a run (docs/spectral-model.md §2.1): one [`HalfSpaces`] for two identical
+/// half-spaces, or one per half-space with its own material. Each half-space's relation involves
+/// only its own face (T^± = T^0 ∓ Z^± v^± + f^±), so a split operator takes the top face's f^+
+/// from the top material's operator and the bottom face's f^- from the bottom one's; the face
+/// each does not own is computed and discarded, which doubles the convolution's cost.
+pub enum Operator {
+    /// Two identical half-spaces.
+    Identical(Box<HalfSpaces>),
+    /// Two materials: the top (y > 0) and bottom (y < 0) half-spaces' operators, and the buffer
+    /// the bottom one writes to.
+    Split {
+        /// Operator of the top material (its f^+ is kept).
+        top: Box<HalfSpaces>,
+        /// Operator of the bottom material (its f^- is kept).
+        bottom: Box<HalfSpaces>,
+        /// The bottom operator's output (its top-face part is discarded).
+        scratch: Box<FaceFields>,
+    },
+}
+
+impl Operator {
+    /// Records u^n and writes f^n of both faces (§4.2 steps 2–4).
+    pub fn step(&mut self, u: &FaceFields, f: &mut FaceFields) {
+        match self {
+            Operator::Identical(h) => h.step(u, f),
+            Operator::Split { top, bottom, scratch } => {
+                let (s, g) = (&mut **scratch, &mut *f);
+                rayon::join(|| top.step(u, g), || bottom.step(u, s));
+                f.bottom_x.copy_from_slice(&scratch.bottom_x);
+                f.bottom_y.copy_from_slice(&scratch.bottom_y);
+            }
+        }
+    }
+
+    /// Cost figures: both operators' together for a split one.
+    pub fn stats(&self) -> ConvolutionStats {
+        match self {
+            Operator::Identical(h) => h.stats(),
+            Operator::Split { top, bottom, .. } => {
+                let (a, b) = (top.stats(), bottom.stats());
+                ConvolutionStats {
+                    history_entries: a.history_entries + b.history_entries,
+                    bytes_per_step: a.bytes_per_step + b.bytes_per_step,
+                    exp_terms: a.exp_terms + b.exp_terms,
+                    fit_error: a.fit_error.max(b.fit_error),
+                }
+            }
         }
     }
 }

@@ -36,34 +36,51 @@ const DIRECT_BYTES_PER_SECOND: f64 = 5e9;
 pub fn estimate(scene: &Scene) -> Result<Estimate, BuildError> {
     let n = scene.grid_points;
     let steps = scene.last_step().saturating_add(1);
+    // two materials: one operator per half-space (docs/spectral-model.md §2.1), each priced as
+    // the slower one, whose smaller β gives the longer windows
+    let operators = if scene.is_split() { 2.0 } else { 1.0 };
+    let slowest = scene.top().wave_speeds().cs.min(scene.bottom().wave_speeds().cs);
     let modes = Modes::new(
         n,
         scene.length,
-        scene.cs_dt_over_dx,
+        scene.cs_dt_over_dx * (slowest / scene.fastest_shear_speed()),
         scene.kernel_cutoff,
         usize::try_from(steps).unwrap_or(usize::MAX),
     );
     let per_step = n as f64 * SECONDS_PER_POINT_STEP;
     let (history, seconds_per_step) = match scene.convolution {
         Convolution::Direct => {
-            let streamed = modes.total as f64 * (size_of::<Entry>() + size_of::<[f64; 3]>()) as f64;
+            let streamed =
+                operators * modes.total as f64 * (size_of::<Entry>() + size_of::<[f64; 3]>()) as f64;
             let part = Part {
                 what: format!("history ({} stored steps over all modes)", modes.total),
-                bytes: bytes_of(modes.total as f64, size_of::<Entry>() + size_of::<[f64; 3]>())
-                    .saturating_add(bytes_of(modes.max_sample() as f64 + 1.0, size_of::<[f64; 3]>())),
+                bytes: bytes_of(
+                    operators * modes.total as f64,
+                    size_of::<Entry>() + size_of::<[f64; 3]>(),
+                )
+                .saturating_add(bytes_of(
+                    operators * (modes.max_sample() as f64 + 1.0),
+                    size_of::<[f64; 3]>(),
+                )),
                 key: "spectral.convolution",
             };
             (part, per_step + streamed / DIRECT_BYTES_PER_SECOND)
         }
         Convolution::Fast => {
-            let fit = SoeFit::shared(
-                &Kernels::new(scene.eta(), scene.kernel_cutoff),
-                scene.kernel_cutoff,
-                scene.fast_tolerance,
-            )?;
+            let mut poles = 0.0;
+            let mut terms = 0;
+            for solid in [scene.top(), scene.bottom()].iter().take(operators as usize) {
+                let fit = SoeFit::shared(
+                    &Kernels::new(solid.eta(), scene.kernel_cutoff),
+                    scene.kernel_cutoff,
+                    scene.fast_tolerance,
+                )?;
+                poles += fit.poles.len() as f64;
+                terms += fit.terms();
+            }
             let part = Part {
-                what: format!("convolution ({} exponential terms per mode)", fit.terms()),
-                bytes: bytes_of((n / 2 + 1) as f64 * fit.poles.len() as f64, FAST_BYTES_PER_TERM),
+                what: format!("convolution ({terms} exponential terms per mode)"),
+                bytes: bytes_of((n / 2 + 1) as f64 * poles, FAST_BYTES_PER_TERM),
                 key: "spectral.grid_points",
             };
             (part, per_step)

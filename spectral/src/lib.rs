@@ -27,12 +27,12 @@ mod solver;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-pub use elastodynamics::{ConvolutionStats, FaceFields, HalfSpaceParams, HalfSpaces};
+pub use elastodynamics::{ConvolutionStats, FaceFields, HalfSpaceParams, HalfSpaces, Operator};
 pub use error::{BuildError, RunError, SceneError};
 pub use estimate::estimate;
 pub use output::{ContactMeanRecord, FieldRecord, RunOutput, RunStats, TipRecord, write_csv};
 pub use scene::{
-    ContactFriction, Convolution, DEFAULT_FAST_TOLERANCE, InitialInterface, Nucleation, Ramp, Scene,
+    ContactFriction, Convolution, DEFAULT_FAST_TOLERANCE, InitialInterface, Nucleation, Ramp, Scene, Solid,
     WaveSpeeds, rayleigh_ratio,
 };
 

@@ -78,8 +78,18 @@ struct RawScene {
     compare: Option<toml::Value>,
 }
 
+/// `[material]`: the three keys for two identical half-spaces, or `top` and `bottom` tables.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 struct RawMaterial {
+    youngs_modulus: Option<f64>,
+    poisson_ratio: Option<f64>,
+    density: Option<f64>,
+    top: Option<RawSolid>,
+    bottom: Option<RawSolid>,
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+struct RawSolid {
     youngs_modulus: f64,
     poisson_ratio: f64,
     density: f64,
@@ -132,15 +142,63 @@ struct RawSpectral {
 /// Default relative accuracy of the sum-of-exponentials kernel fit (docs/spectral-model.md §4.3) [-].
 pub const DEFAULT_FAST_TOLERANCE: f64 = 1e-5;
 
-/// A validated scene: the shared problem plus the spectral discretisation. SI units.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Scene {
+/// One isotropic linear-elastic half-space, plane strain. SI units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Solid {
     /// Young's modulus E [Pa].
     pub youngs_modulus: f64,
     /// Poisson ratio ν [-].
     pub poisson_ratio: f64,
     /// Density ρ [kg/m³].
     pub density: f64,
+}
+
+impl Solid {
+    /// Shear modulus μ = E/(2(1+ν)) [Pa].
+    pub fn shear_modulus(&self) -> f64 {
+        self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
+    }
+
+    /// η = c_d/c_s = sqrt(2(1−ν)/(1−2ν)) [-] (plane strain).
+    pub fn eta(&self) -> f64 {
+        let nu = self.poisson_ratio;
+        (2.0 * (1.0 - nu) / (1.0 - 2.0 * nu)).sqrt()
+    }
+
+    /// Plane-strain wave speeds [m/s].
+    pub fn wave_speeds(&self) -> WaveSpeeds {
+        let cs = (self.shear_modulus() / self.density).sqrt();
+        let eta = self.eta();
+        WaveSpeeds {
+            cd: eta * cs,
+            cs,
+            cr: rayleigh_ratio(eta) * cs,
+        }
+    }
+
+    /// Shear impedance ρ c_s = μ/c_s [Pa s/m].
+    pub fn shear_impedance(&self) -> f64 {
+        self.shear_modulus() / self.wave_speeds().cs
+    }
+
+    /// Normal impedance ρ c_d = η μ/c_s [Pa s/m].
+    pub fn normal_impedance(&self) -> f64 {
+        self.eta() * self.shear_modulus() / self.wave_speeds().cs
+    }
+}
+
+/// A validated scene: the shared problem plus the spectral discretisation. SI units.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    /// Young's modulus E of the top half-space (of both, unless `bottom` is set) [Pa].
+    pub youngs_modulus: f64,
+    /// Poisson ratio ν of the top half-space (of both, unless `bottom` is set) [-].
+    pub poisson_ratio: f64,
+    /// Density ρ of the top half-space (of both, unless `bottom` is set) [kg/m³].
+    pub density: f64,
+    /// The bottom half-space when `[material]` is split into `top` and `bottom` (docs/spectral-model.md
+    /// §2.1); `None`: two identical half-spaces.
+    pub bottom: Option<Solid>,
     /// Cohesive strength σ_c [Pa].
     pub sigma_c: f64,
     /// Critical opening δ_c [m].
@@ -231,26 +289,44 @@ impl Scene {
         self.variant(|r| r.spectral.grid_points = i64::try_from(grid_points).unwrap_or(i64::MAX))
     }
 
-    /// Shear modulus μ = E/(2(1+ν)) [Pa].
-    pub fn shear_modulus(&self) -> f64 {
-        self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
-    }
-
-    /// η = c_d/c_s = sqrt(2(1−ν)/(1−2ν)) [-] (plane strain).
-    pub fn eta(&self) -> f64 {
-        let nu = self.poisson_ratio;
-        (2.0 * (1.0 - nu) / (1.0 - 2.0 * nu)).sqrt()
-    }
-
-    /// Plane-strain wave speeds [m/s].
-    pub fn wave_speeds(&self) -> WaveSpeeds {
-        let cs = (self.shear_modulus() / self.density).sqrt();
-        let eta = self.eta();
-        WaveSpeeds {
-            cd: eta * cs,
-            cs,
-            cr: rayleigh_ratio(eta) * cs,
+    /// The top half-space (y > 0): the whole material unless `[material]` is split.
+    pub fn top(&self) -> Solid {
+        Solid {
+            youngs_modulus: self.youngs_modulus,
+            poisson_ratio: self.poisson_ratio,
+            density: self.density,
         }
+    }
+
+    /// The bottom half-space (y < 0): the top one unless `[material]` is split.
+    pub fn bottom(&self) -> Solid {
+        self.bottom.unwrap_or_else(|| self.top())
+    }
+
+    /// True when `[material]` is split into `top` and `bottom` (the bimaterial path, even with
+    /// equal halves).
+    pub fn is_split(&self) -> bool {
+        self.bottom.is_some()
+    }
+
+    /// Shear modulus μ = E/(2(1+ν)) of the top half-space [Pa].
+    pub fn shear_modulus(&self) -> f64 {
+        self.top().shear_modulus()
+    }
+
+    /// η = c_d/c_s of the top half-space [-] (plane strain).
+    pub fn eta(&self) -> f64 {
+        self.top().eta()
+    }
+
+    /// Plane-strain wave speeds of the top half-space [m/s].
+    pub fn wave_speeds(&self) -> WaveSpeeds {
+        self.top().wave_speeds()
+    }
+
+    /// The larger of the two shear-wave speeds, which sets the step [m/s].
+    pub fn fastest_shear_speed(&self) -> f64 {
+        self.top().wave_speeds().cs.max(self.bottom().wave_speeds().cs)
     }
 
     /// Grid spacing Δx = X/N [m].
@@ -258,9 +334,9 @@ impl Scene {
         self.length / self.grid_points as f64
     }
 
-    /// Time step the run will use, Δt = β Δx / c_s [s].
+    /// Time step the run will use, Δt = β Δx / c_s [s], with the faster half-space's c_s.
     pub fn time_step(&self) -> f64 {
-        self.cs_dt_over_dx * self.grid_spacing() / self.wave_speeds().cs
+        self.cs_dt_over_dx * self.grid_spacing() / self.fastest_shear_speed()
     }
 
     /// Run duration T [s] (`[loading].duration`).
@@ -286,9 +362,10 @@ impl Scene {
         }
     }
 
-    /// Process-zone size l_p = E G_c/σ_c², G_c = σ_c δ_c/2 [m].
+    /// Process-zone size l_p = E G_c/σ_c², G_c = σ_c δ_c/2 [m], with the softer half-space's E.
     pub fn process_zone(&self) -> f64 {
-        process_zone(self.youngs_modulus, self.sigma_c, self.delta_c)
+        let e = self.youngs_modulus.min(self.bottom().youngs_modulus);
+        process_zone(e, self.sigma_c, self.delta_c)
     }
 
     /// What a valid scene does that its user should know before running it: a grid that

@@ -146,3 +146,71 @@ fn geometry_messages_have_no_runs_of_blanks() {
 fn message<'e>(err: &'e str, key: &str) -> &'e str {
     err.lines().find(|l| l.contains(key)).map_or("", str::trim_start)
 }
+
+/// The centre crack with `[material]` split into two tables of the given bodies.
+fn split_scene(top: &str, bottom: &str) -> String {
+    SCENE.replace(
+        "[material]                      # bulk / both half-spaces, plane strain\nyoungs_modulus = 70e6           # Pa\npoisson_ratio = 0.35            # -\ndensity = 1230.0                # kg/m^3\n",
+        &format!("[material.top]\n{top}\n[material.bottom]\n{bottom}\n"),
+    )
+}
+
+const PAPER_BODY: &str = "youngs_modulus = 70e6\npoisson_ratio = 0.35\ndensity = 1230.0";
+/// c_s 20 % above the paper material's (E × 1.44 at the same ρ and ν).
+const FASTER_BODY: &str = "youngs_modulus = 100.8e6\npoisson_ratio = 0.35\ndensity = 1230.0";
+
+#[test]
+fn a_split_material_gives_each_half_space_its_own_and_the_faster_sets_the_step() {
+    let s = Scene::from_toml_str(&split_scene(PAPER_BODY, FASTER_BODY)).unwrap();
+    assert!(s.is_split());
+    let (t, b) = (s.top().wave_speeds().cs, s.bottom().wave_speeds().cs);
+    assert!((b / t - 1.2).abs() < 1e-12, "{t} {b}");
+    assert_eq!(s.fastest_shear_speed(), b);
+    let flat = Scene::from_toml_str(SCENE).unwrap();
+    assert!((s.time_step() * 1.2 - flat.time_step()).abs() < 1e-15 * flat.time_step());
+    // the softer half-space's process zone is the one the grid must resolve
+    assert_eq!(s.process_zone(), flat.process_zone());
+    // identical halves given apart: split, and the same step to the bit
+    let same = Scene::from_toml_str(&split_scene(PAPER_BODY, PAPER_BODY)).unwrap();
+    assert!(same.is_split());
+    assert_eq!(same.time_step(), flat.time_step());
+}
+
+#[test]
+fn a_split_material_is_checked_key_by_key() {
+    let e = Scene::from_toml_str(&split_scene(
+        PAPER_BODY,
+        "youngs_modulus = 70e6\npoisson_ratio = 0.35\ndensity = -1.0",
+    ))
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("material.bottom.density = -1"), "{e}");
+    // one half only
+    let only_top = SCENE.replace("[material]  ", "[material.top]");
+    let e = Scene::from_toml_str(&only_top).unwrap_err().to_string();
+    assert!(e.contains("material.bottom") && e.contains("missing"), "{e}");
+    // flat keys beside the tables
+    let mixed = split_scene(PAPER_BODY, PAPER_BODY)
+        .replace("[material.top]", "[material]\ndensity = 1230.0\n[material.top]");
+    let e = Scene::from_toml_str(&mixed).unwrap_err().to_string();
+    assert!(e.contains("material.density") && e.contains("beside"), "{e}");
+    // neither form
+    let none = SCENE.replace("youngs_modulus = 70e6           # Pa\n", "");
+    let e = Scene::from_toml_str(&none).unwrap_err().to_string();
+    assert!(
+        e.contains("material.youngs_modulus") && e.contains("missing"),
+        "{e}"
+    );
+}
+
+#[test]
+fn coulomb_friction_between_two_materials_needs_t_star() {
+    let text = split_scene(PAPER_BODY, FASTER_BODY);
+    let text = text.replace("t_star = 2e-5 ", "t_star = 0.0 ");
+    let e = Scene::from_toml_str(&text).unwrap_err().to_string();
+    assert!(e.contains("spectral.t_star") && e.contains("ill-posed"), "{e}");
+    // the same with μ = 0, or with identical halves, is well-posed
+    assert!(Scene::from_toml_str(&text.replace("friction_coeff = 0.3 ", "friction_coeff = 0.0 ")).is_ok());
+    let same = split_scene(PAPER_BODY, PAPER_BODY).replace("t_star = 2e-5 ", "t_star = 0.0 ");
+    assert!(Scene::from_toml_str(&same).is_ok());
+}

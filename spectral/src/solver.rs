@@ -4,12 +4,13 @@
 
 use rayon::prelude::*;
 
-use crate::elastodynamics::{FaceFields, HalfSpaceParams, HalfSpaces};
+use crate::elastodynamics::{FaceFields, HalfSpaceParams, HalfSpaces, Operator};
 use crate::error::BuildError;
+use crate::law::Impedances;
 use crate::law::cohesive::{CohesiveParams, Strength};
 use crate::law::point::{self, Drive, Point, PointLaw};
 use crate::loading;
-use crate::scene::{InitialInterface, Scene};
+use crate::scene::{InitialInterface, Scene, Solid};
 
 /// Immutable model: grid, law parameters, loads.
 pub(crate) struct Model {
@@ -33,7 +34,7 @@ pub(crate) struct State {
 
 /// Buffers and the elastodynamic operator.
 pub(crate) struct Workspace {
-    pub half: HalfSpaces,
+    pub half: Operator,
     pub f: FaceFields,
 }
 
@@ -41,8 +42,6 @@ pub(crate) struct Workspace {
 pub(crate) fn build(scene: &Scene) -> Result<(Model, State, Workspace), BuildError> {
     let n = scene.grid_points;
     let dx = scene.grid_spacing();
-    let w = scene.wave_speeds();
-    let mu = scene.shear_modulus();
     let x: Vec<f64> = (0..n)
         .map(|m| scene.center_x - 0.5 * scene.length + m as f64 * dx)
         .collect();
@@ -73,17 +72,15 @@ pub(crate) fn build(scene: &Scene) -> Result<(Model, State, Workspace), BuildErr
                 .map_or(0.0, |nu| loading::nucleation_shear(&nu, x))
         })
         .collect();
-    let params = HalfSpaceParams {
-        shear_modulus: mu,
-        cs: w.cs,
-        eta: scene.eta(),
-        grid_points: n,
-        length: scene.length,
-        cs_dt_over_dx: scene.cs_dt_over_dx,
-        kernel_cutoff: scene.kernel_cutoff,
-        max_steps: scene.last_step() as usize + 1,
-        convolution: scene.convolution,
-        fast_tolerance: scene.fast_tolerance,
+    let (top, bottom) = (scene.top(), scene.bottom());
+    let half = if scene.is_split() {
+        Operator::Split {
+            top: Box::new(HalfSpaces::new(&half_space(scene, top))?),
+            bottom: Box::new(HalfSpaces::new(&half_space(scene, bottom))?),
+            scratch: Box::new(FaceFields::zeros(n)),
+        }
+    } else {
+        Operator::Identical(Box::new(HalfSpaces::new(&half_space(scene, top))?))
     };
     let model = Model {
         n,
@@ -93,8 +90,14 @@ pub(crate) fn build(scene: &Scene) -> Result<(Model, State, Workspace), BuildErr
         on_precrack,
         law: PointLaw {
             cohesive,
-            z_shear: mu / w.cs,
-            z_normal: scene.eta() * mu / w.cs,
+            z_shear: Impedances {
+                top: top.shear_impedance(),
+                bottom: bottom.shear_impedance(),
+            },
+            z_normal: Impedances {
+                top: top.normal_impedance(),
+                bottom: bottom.normal_impedance(),
+            },
             dt,
             friction_coeff: scene.friction_coeff,
             relax: (scene.t_star > 0.0).then(|| dt / scene.t_star),
@@ -113,7 +116,8 @@ pub(crate) fn build(scene: &Scene) -> Result<(Model, State, Workspace), BuildErr
             .fold(scene.sigma_c.max(scene.beta * scene.sigma_c), |a, b| {
                 a.max(b.abs())
             });
-            1e3 * (peak + scene.nucleation.map_or(0.0, |n| n.shear.abs())) * w.cs / mu
+            let z = top.shear_impedance().min(bottom.shear_impedance());
+            1e3 * (peak + scene.nucleation.map_or(0.0, |n| n.shear.abs())) / z
         },
         nucleation,
         scene: scene.clone(),
@@ -123,10 +127,33 @@ pub(crate) fn build(scene: &Scene) -> Result<(Model, State, Workspace), BuildErr
         points,
     };
     let ws = Workspace {
-        half: HalfSpaces::new(&params)?,
+        half,
         f: FaceFields::zeros(n),
     };
     Ok((model, state, ws))
+}
+
+/// The operator's parameters for one half-space of `scene`: its own μ, c_s and η, and its own
+/// β = c_s Δt/Δx at the run's common Δt (the scene's β belongs to the faster half-space).
+fn half_space(scene: &Scene, solid: Solid) -> HalfSpaceParams {
+    let (cs, fastest) = (solid.wave_speeds().cs, scene.fastest_shear_speed());
+    HalfSpaceParams {
+        shear_modulus: solid.shear_modulus(),
+        cs,
+        eta: solid.eta(),
+        grid_points: scene.grid_points,
+        length: scene.length,
+        // exactly the scene's β for the faster (or only) material
+        cs_dt_over_dx: if cs == fastest {
+            scene.cs_dt_over_dx
+        } else {
+            scene.cs_dt_over_dx * (cs / fastest)
+        },
+        kernel_cutoff: scene.kernel_cutoff,
+        max_steps: scene.last_step() as usize + 1,
+        convolution: scene.convolution,
+        fast_tolerance: scene.fast_tolerance,
+    }
 }
 
 /// Far-field (s_xy, s_yy) at t [s] [Pa].

@@ -131,7 +131,7 @@ impl Material {
 
     /// `R(v)/(v/c_s)²` for `x = v/c_s ∈ [0, 1]`, free of the small-`v` cancellation:
     /// `R/x² = 4 α_s (α_d − â² α_s)/(1 + α_d α_s) − x²` with `â = c_s/c_d`.
-    fn rayleigh_over_x2(&self, x: f64) -> f64 {
+    pub(crate) fn rayleigh_over_x2(&self, x: f64) -> f64 {
         let a2 = self.a_hat().powi(2);
         let x2 = x * x;
         let alpha_d = (1.0 - a2 * x2).sqrt();

@@ -2,6 +2,8 @@
 //! open trial with traction = strength, contact by matching normal displacements (gap closed
 //! exactly at the end of the step, paper §3.2 "g = 0").
 
+use super::Impedances;
+
 /// Which branch the normal solve took.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum NormalBranch {
@@ -24,8 +26,8 @@ pub struct NormalInput {
     pub strength: f64,
     /// Current opening δ_n [m].
     pub opening: f64,
-    /// Normal impedance Z_n = η μ/c_s [Pa s/m].
-    pub impedance: f64,
+    /// Normal impedances Z_n^± = ρ^± c_d^± of the two faces [Pa s/m].
+    pub impedance: Impedances,
     /// Time step Δt [s].
     pub dt: f64,
     /// Contact enabled.
@@ -45,15 +47,16 @@ pub struct NormalSolution {
     pub branch: NormalBranch,
 }
 
-/// §5.2 (a)–(c). Stick: v = (S^+ − S^-)/(2Z_n), T = (S^+ + S^-)/2. Open: v^+ = (S^+ − σ_s)/Z_n,
-/// v^- = (σ_s − S^-)/Z_n, T = σ_s. Contact (predicted gap < −ε): w = δ_n/Δt,
-/// v^+ = (S^+ − S^- − Z_n w)/(2 Z_n), v^- = v^+ + w, T = S^+ − Z_n v^+.
+/// §5.2 (a)–(c), with each face's impedance Z^± (equal for identical halves). Stick:
+/// v = (S^+ − S^-)/(Z^+ + Z^-), T = (Z^- S^+ + Z^+ S^-)/(Z^+ + Z^-). Open: v^+ = (S^+ − σ_s)/Z^+,
+/// v^- = (σ_s − S^-)/Z^-, T = σ_s. Contact (predicted gap < −ε): w = δ_n/Δt,
+/// v^+ = (S^+ − S^- − Z^- w)/(Z^+ + Z^-), v^- = v^+ + w, T = S^+ − Z^+ v^+.
 pub fn solve(i: &NormalInput) -> NormalSolution {
     let z = i.impedance;
-    let t_star = 0.5 * (i.s_top + i.s_bottom);
+    let t_star = z.stick_traction(i.s_top, i.s_bottom);
     if i.strength < t_star || i.strength == 0.0 {
-        let v_top = (i.s_top - i.strength) / z;
-        let v_bottom = (i.strength - i.s_bottom) / z;
+        let v_top = (i.s_top - i.strength) / z.top;
+        let v_bottom = (i.strength - i.s_bottom) / z.bottom;
         let gap = i.opening + i.dt * (v_top - v_bottom);
         if !(i.contact && gap < -f64::EPSILON) {
             return NormalSolution {
@@ -64,15 +67,15 @@ pub fn solve(i: &NormalInput) -> NormalSolution {
             };
         }
         let w = i.opening / i.dt;
-        let v_top = (i.s_top - i.s_bottom - z * w) / (2.0 * z);
+        let v_top = (i.s_top - i.s_bottom - z.bottom * w) / z.sum();
         return NormalSolution {
             v_top,
             v_bottom: v_top + w,
-            traction: i.s_top - z * v_top,
+            traction: i.s_top - z.top * v_top,
             branch: NormalBranch::Contact,
         };
     }
-    let v = (i.s_top - i.s_bottom) / (2.0 * z);
+    let v = z.stick_velocity(i.s_top, i.s_bottom);
     NormalSolution {
         v_top: v,
         v_bottom: v,
@@ -91,7 +94,7 @@ mod tests {
             s_bottom,
             strength,
             opening,
-            impedance: 2.0,
+            impedance: Impedances::equal(2.0),
             dt: 0.1,
             contact: true,
         }

@@ -8,6 +8,8 @@
 //! Slip uses the momentum-conserving form T_1 = τ sgn(T*_1) (§5.2 d, preferred) rather than cRacklet's
 //! per-face sgn(S^±_1); they coincide whenever S^+_1 and S^-_1 have the same sign.
 
+use super::Impedances;
+
 /// Result of the shear solve.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ShearSolution {
@@ -21,21 +23,22 @@ pub struct ShearSolution {
     pub slipping: bool,
 }
 
-/// §5.2 (d) with shear strength τ ≥ 0 [Pa] and shear impedance Z = μ/c_s [Pa s/m]:
-/// trial T* = (S^+ + S^-)/2; slip if τ < |T*| or τ == 0: T = τ sgn(T*), v^+ = (S^+ − T)/Z,
-/// v^- = (T − S^-)/Z; else stick with v^± = (S^+ − S^-)/(2Z), T = T*.
-pub fn solve_shear(s_top: f64, s_bottom: f64, strength: f64, impedance: f64) -> ShearSolution {
-    let t_trial = 0.5 * (s_top + s_bottom);
+/// §5.2 (d) with shear strength τ ≥ 0 [Pa] and the faces' shear impedances Z^± = ρ^± c_s^± [Pa s/m]:
+/// trial T* = (Z^- S^+ + Z^+ S^-)/(Z^+ + Z^-) (the stick traction; (S^+ + S^-)/2 for identical
+/// halves); slip if τ < |T*| or τ == 0: T = τ sgn(T*), v^+ = (S^+ − T)/Z^+, v^- = (T − S^-)/Z^-;
+/// else stick with v^± = (S^+ − S^-)/(Z^+ + Z^-), T = T*.
+pub fn solve_shear(s_top: f64, s_bottom: f64, strength: f64, z: Impedances) -> ShearSolution {
+    let t_trial = z.stick_traction(s_top, s_bottom);
     if strength < t_trial.abs() || strength == 0.0 {
         let traction = strength * t_trial.signum();
         return ShearSolution {
-            v_top: (s_top - traction) / impedance,
-            v_bottom: (traction - s_bottom) / impedance,
+            v_top: (s_top - traction) / z.top,
+            v_bottom: (traction - s_bottom) / z.bottom,
             traction,
             slipping: true,
         };
     }
-    let v = (s_top - s_bottom) / (2.0 * impedance);
+    let v = z.stick_velocity(s_top, s_bottom);
     ShearSolution {
         v_top: v,
         v_bottom: v,
@@ -63,13 +66,13 @@ mod tests {
     #[test]
     fn slip_traction_resists_relative_sliding() {
         // Top face driven in +x: T_1 = +τ and the top moves faster than the bottom.
-        let r = solve_shear(3.0, 1.0, 1.0, 2.0);
+        let r = solve_shear(3.0, 1.0, 1.0, Impedances::equal(2.0));
         assert!(r.slipping && r.traction == 1.0 && r.v_top > r.v_bottom);
     }
 
     #[test]
     fn stick_keeps_faces_together() {
-        let r = solve_shear(0.5, 0.1, 1.0, 2.0);
+        let r = solve_shear(0.5, 0.1, 1.0, Impedances::equal(2.0));
         assert!(!r.slipping);
         assert_eq!(r.v_top, r.v_bottom);
         assert_eq!(r.traction, 0.3);
@@ -77,7 +80,7 @@ mod tests {
 
     #[test]
     fn slip_conserves_momentum() {
-        let r = solve_shear(3.0, -0.5, 0.2, 2.0);
+        let r = solve_shear(3.0, -0.5, 0.2, Impedances::equal(2.0));
         // traction continuity: S^+ − Z v^+ = S^- + Z v^-
         assert!(((3.0 - 2.0 * r.v_top) - (-0.5 + 2.0 * r.v_bottom)).abs() < 1e-15);
     }

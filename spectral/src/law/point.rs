@@ -3,10 +3,10 @@
 //! eq. 14) → shear solve with the strength the friction rule gives (§5.2 d, §5.5). Pure: (law,
 //! drive, old point) → new point.
 
-use super::PointState;
 use super::cohesive::{self, CohesiveParams, Strength};
 use super::contact::{self, NormalBranch, NormalInput};
 use super::friction;
+use super::{Impedances, PointState};
 
 /// Where Coulomb friction acts (`[friction] contact_friction`, the FE model's key and meaning;
 /// docs/spectral-model.md §5.5).
@@ -25,10 +25,10 @@ pub enum ContactFriction {
 pub struct PointLaw {
     /// Cohesive law parameters.
     pub cohesive: CohesiveParams,
-    /// Shear impedance Z = μ/c_s [Pa s/m].
-    pub z_shear: f64,
-    /// Normal impedance Z_n = η μ/c_s [Pa s/m].
-    pub z_normal: f64,
+    /// Shear impedances Z^± = μ^±/c_s^± of the two faces [Pa s/m].
+    pub z_shear: Impedances,
+    /// Normal impedances Z_n^± = η^± μ^±/c_s^± of the two faces [Pa s/m].
+    pub z_normal: Impedances,
     /// Time step Δt [s].
     pub dt: f64,
     /// Coulomb coefficient μ [-].

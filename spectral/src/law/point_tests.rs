@@ -9,8 +9,8 @@ fn law(rule: ContactFriction) -> PointLaw {
     let z = 25.926e6 / 145.18;
     PointLaw {
         cohesive: CohesiveParams::from_paper(0.4e6, 1e-4, 1.0, 1.0),
-        z_shear: z,
-        z_normal: 2.0817 * z,
+        z_shear: Impedances::equal(z),
+        z_normal: Impedances::equal(2.0817 * z),
         dt: 1e-8,
         friction_coeff: 0.3,
         relax: Some(0.05),
@@ -54,7 +54,7 @@ fn shear_through(law: &PointLaw, rate: f64, slip_end: f64) -> (f64, Point) {
             ..drive(&p, shear, -PRESSURE)
         };
         let tau = step(law, &at(1e12), &p).traction[0];
-        let next = step(law, &at(tau + 0.5 * law.z_shear * rate), &p);
+        let next = step(law, &at(tau + 0.5 * law.z_shear.top * rate), &p);
         let d_slip = law.dt * (next.v[0] - next.v[2]);
         work += next.traction[0] * d_slip;
         slip += d_slip;

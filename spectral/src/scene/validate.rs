@@ -56,7 +56,8 @@ pub(super) fn validate(r: RawScene) -> Result<Scene, SceneError> {
     let raw = r.clone();
     let mut p = Problems::default();
     let m = &r.material;
-    let [youngs, nu, density] = material(&mut p, m);
+    let (top, bottom) = material(&mut p, m);
+    let halves = top.zip(bottom).map(|(t, b)| (t, b.unwrap_or(t)));
     let i = &r.interface;
     let (sigma_c, delta_c, a, contact_friction) = interface_crack_friction(&mut p, &r);
     let mu_f = r.friction.friction_coeff;
@@ -67,20 +68,26 @@ pub(super) fn validate(r: RawScene) -> Result<Scene, SceneError> {
     p.ramp("loading.shear", &l.shear, t_end);
     let s = &r.spectral;
     let n = s.grid_points;
-    let (length, dx, cfl) = grid_and_step(&mut p, s, [youngs, nu, density]);
+    let cs = halves.map(|(t, b)| t.wave_speeds().cs.max(b.wave_speeds().cs));
+    let (length, dx, cfl) = grid_and_step(&mut p, s, cs);
     let (fast_tolerance, initial_interface) = options(&mut p, s, t_end);
     geometry(&mut p, &r, length, a, initial_interface);
+    if let Some((t, b)) = halves {
+        well_posed(&mut p, &r, t, b);
+    }
+    let youngs = halves.map(|(t, b)| t.youngs_modulus.min(b.youngs_modulus));
     if let (Some(e), Some(sc), Some(dc), Some(dx)) = (youngs, sigma_c, delta_c, dx) {
         zone_resolution(&mut p, s, e, sc, dc, dx);
     }
     let errors = p.0;
-    let (Some(cfl), true) = (cfl, errors.is_empty()) else {
+    let (Some(cfl), Some(top), Some(bottom), true) = (cfl, top, bottom, errors.is_empty()) else {
         return Err(collected(errors));
     };
     Ok(Scene {
-        youngs_modulus: m.youngs_modulus,
-        poisson_ratio: m.poisson_ratio,
-        density: m.density,
+        youngs_modulus: top.youngs_modulus,
+        poisson_ratio: top.poisson_ratio,
+        density: top.density,
+        bottom,
         sigma_c: i.sigma_c,
         delta_c: i.delta_c,
         beta: i.beta,
@@ -108,22 +115,116 @@ pub(super) fn validate(r: RawScene) -> Result<Scene, SceneError> {
     })
 }
 
-/// `[material]`: E [Pa], ν [-] and ρ [kg/m³], each `None` if refused.
-fn material(p: &mut Problems, m: &RawMaterial) -> [Option<f64>; 3] {
+/// `[material]`: the top half-space and, when the table is split, the bottom one, each `None`
+/// if refused. The flat keys give two identical half-spaces; `top` and `bottom` give two
+/// materials (docs/spectral-model.md §2.1). Either form, not both.
+fn material(p: &mut Problems, m: &RawMaterial) -> (Option<Solid>, Option<Option<Solid>>) {
+    let flat = [m.youngs_modulus, m.poisson_ratio, m.density];
+    match (&m.top, &m.bottom) {
+        (None, None) => {
+            let keys = ["youngs_modulus", "poisson_ratio", "density"];
+            let mut missing = false;
+            for (key, v) in keys.iter().zip(flat) {
+                if v.is_none() {
+                    missing = true;
+                    p.inconsistent(
+                        &format!("material.{key}"),
+                        "missing: give youngs_modulus [Pa], poisson_ratio [-] and density \
+                         [kg/m^3], or split [material] into [material.top] and [material.bottom]"
+                            .to_string(),
+                    );
+                }
+            }
+            let [e, nu, rho] = flat;
+            let solid = RawSolid {
+                youngs_modulus: e.unwrap_or(f64::NAN),
+                poisson_ratio: nu.unwrap_or(f64::NAN),
+                density: rho.unwrap_or(f64::NAN),
+            };
+            let top = if missing {
+                None
+            } else {
+                solid_of(p, "material", &solid)
+            };
+            (top, Some(None))
+        }
+        (Some(top), Some(bottom)) => {
+            let keys = ["youngs_modulus", "poisson_ratio", "density"];
+            let mut mixed = false;
+            for (key, v) in keys.iter().zip(flat) {
+                if v.is_some() {
+                    mixed = true;
+                    p.inconsistent(
+                        &format!("material.{key}"),
+                        "given beside [material.top] and [material.bottom]: with two materials, \
+                         every key belongs to one of them"
+                            .to_string(),
+                    );
+                }
+            }
+            let top = solid_of(p, "material.top", top);
+            let bottom = solid_of(p, "material.bottom", bottom);
+            if mixed {
+                return (None, None);
+            }
+            (top, bottom.map(Some))
+        }
+        (Some(_), None) | (None, Some(_)) => {
+            let missing = if m.top.is_none() { "top" } else { "bottom" };
+            p.inconsistent(
+                &format!("material.{missing}"),
+                "missing: a split [material] needs both [material.top] and [material.bottom]".to_string(),
+            );
+            (None, None)
+        }
+    }
+}
+
+/// Coulomb friction between two different materials with no regularisation is ill-posed (Adams
+/// 1995; Ranjith & Rice 2001): steady sliding is unstable at every wavelength, with growth rates
+/// that grow without bound as the wavelength falls, so the answer depends on the grid and not on
+/// the physics. The Prakash law (paper eq. 14) with t* > 0 is what makes the problem well-posed,
+/// so μ > 0 between different halves needs t* > 0 (docs/spectral-model.md §5.3).
+fn well_posed(p: &mut Problems, r: &RawScene, top: Solid, bottom: Solid) {
+    if top != bottom && r.friction.friction_coeff > 0.0 && r.spectral.t_star == 0.0 {
+        p.inconsistent(
+            "spectral.t_star",
+            format!(
+                "0 with friction.friction_coeff = {} between two different materials: Coulomb \
+                 friction on a bimaterial interface is ill-posed without regularisation (Adams \
+                 1995; Ranjith & Rice 2001), so the result would depend on the grid; give t* > 0 \
+                 [s] (a few steps or more, docs/spectral-model.md §5.3)",
+                r.friction.friction_coeff
+            ),
+        );
+    }
+}
+
+/// One half-space under `key`: E [Pa], ν [-] and ρ [kg/m³] checked, or `None` if any is refused.
+fn solid_of(p: &mut Problems, key: &str, m: &RawSolid) -> Option<Solid> {
     let youngs = p.num(
-        "material.youngs_modulus",
+        &format!("{key}.youngs_modulus"),
         m.youngs_modulus,
         m.youngs_modulus > 0.0,
         "> 0 Pa",
     );
     let nu = p.num(
-        "material.poisson_ratio",
+        &format!("{key}.poisson_ratio"),
         m.poisson_ratio,
         m.poisson_ratio > 0.0 && m.poisson_ratio < 0.5,
         "(0, 0.5) (the kernels of the spectral model need ν > 0)",
     );
-    let density = p.num("material.density", m.density, m.density > 0.0, "> 0 kg/m^3");
-    [youngs, nu, density]
+    let density = p.num(
+        &format!("{key}.density"),
+        m.density,
+        m.density > 0.0,
+        "> 0 kg/m^3",
+    );
+    Some(Solid {
+        youngs_modulus: youngs?,
+        poisson_ratio: nu?,
+        density: density?,
+    })
 }
 
 /// `[interface]`, `[crack]` and `[friction]`: σ_c [Pa], δ_c [m], the half-length a [m] (each
@@ -170,7 +271,7 @@ fn interface_crack_friction(
 fn grid_and_step(
     p: &mut Problems,
     s: &RawSpectral,
-    [youngs, nu, density]: [Option<f64>; 3],
+    cs: Option<f64>,
 ) -> (Option<f64>, Option<f64>, Option<f64>) {
     let length = p.num("spectral.length", s.length, s.length > 0.0, "> 0 m");
     let n = s.grid_points;
@@ -180,11 +281,8 @@ fn grid_and_step(
         (4..=(1 << 24)).contains(&n) && n % 2 == 0,
         "an even integer in [4, 2^24]",
     );
-    // c_s from the material, Δx from the grid: both needed by the step and the geometry checks
-    let cs = match (youngs, nu, density) {
-        (Some(e), Some(nu), Some(rho)) => Some((e / (2.0 * (1.0 + nu)) / rho).sqrt()),
-        _ => None,
-    };
+    // c_s (of the faster half-space) from the material, Δx from the grid: both needed by the
+    // step and the geometry checks
     let dx = length.zip(grid).map(|(x, n)| x / n);
     let cfl = match (s.cs_dt_over_dx, s.time_step) {
         (Some(b), None) => p.num(

@@ -4,6 +4,8 @@
 
 // ---- spectral claims ----
 #[cfg(feature = "spectral")]
+mod spectral_bimaterial;
+#[cfg(feature = "spectral")]
 mod spectral_common;
 #[cfg(feature = "spectral")]
 mod spectral_fast;

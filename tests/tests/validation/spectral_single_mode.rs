@@ -7,6 +7,7 @@
 
 use std::f64::consts::PI;
 
+use spectral::law::Impedances;
 use spectral::law::contact::{self, NormalInput};
 use spectral::law::friction::solve_shear;
 use spectral::{Convolution, FaceFields, HalfSpaceParams, HalfSpaces};
@@ -66,7 +67,12 @@ pub fn response(n: usize, mode: Mode, convolution: Convolution) -> Vec<(f64, f64
                 t2 + f.top_y[m],
                 t2 + f.bottom_y[m],
             );
-            let sh = solve_shear(s1t, s1b, if mode == Mode::II { 0.0 } else { f64::MAX }, z);
+            let sh = solve_shear(
+                s1t,
+                s1b,
+                if mode == Mode::II { 0.0 } else { f64::MAX },
+                Impedances::equal(z),
+            );
             let strength = if mode == Mode::I { 0.0 } else { f64::MAX };
             let opening = u.top_y[m] - u.bottom_y[m];
             let nr = contact::solve(&NormalInput {
@@ -74,7 +80,7 @@ pub fn response(n: usize, mode: Mode, convolution: Convolution) -> Vec<(f64, f64
                 s_bottom: s2b,
                 strength,
                 opening,
-                impedance: zn,
+                impedance: Impedances::equal(zn),
                 dt,
                 contact: false,
             });
