@@ -33,7 +33,7 @@ pub use estimate::estimate;
 pub use output::{ContactMeanRecord, FieldRecord, RunOutput, RunStats, TipRecord, write_csv};
 pub use scene::{
     ContactFriction, Convolution, DEFAULT_FAST_TOLERANCE, InitialInterface, Nucleation, Ramp, Scene, Solid,
-    WaveSpeeds, rayleigh_ratio,
+    WaveSpeeds, rayleigh_ratio, slip_wave_exists,
 };
 
 /// Runs the scene from t = 0 to T = `[loading].duration`.

@@ -382,6 +382,17 @@ impl Scene {
                 self.process_zone()
             ));
         }
+        let (top, bottom) = (self.top(), self.bottom());
+        if !slip_wave_exists(top, bottom) {
+            w.push(format!(
+                "material: no generalized Rayleigh wave exists between these half-spaces (c_s = \
+                 {:.4e} and {:.4e} m/s; the contrast is past its existence limit): a mode-II tip \
+                 has no interface wave speed below the slower c_s to tend to, and the run is not \
+                 covered by the checks of docs/spectral-model.md §2.1",
+                top.wave_speeds().cs,
+                bottom.wave_speeds().cs
+            ));
+        }
         let a = self.half_length;
         if self.initial_interface == InitialInterface::PreCrack
             && a > 0.0
@@ -413,6 +424,24 @@ pub fn rayleigh_ratio(eta: f64) -> f64 {
         if f(mid) < 0.0 { lo = mid } else { hi = mid }
     }
     0.5 * (lo + hi)
+}
+
+/// Whether two half-spaces carry a generalized Rayleigh wave (Weertman 1963): the interface wave
+/// of a closed interface that slips freely, and the speed a mode-II tip on a bimaterial interface
+/// tends to. From each face's normal stiffness when it slips freely, μ R/(A11) of §2 at
+/// s = i v/c_s (docs/spectral-model.md §2.1): positive for both faces as v → 0, and the wave
+/// exists when their sum has turned negative at the slower shear speed. Identical halves always
+/// carry one (the Rayleigh wave); past a contrast of about 25 % in c_s through μ it is gone.
+pub fn slip_wave_exists(top: Solid, bottom: Solid) -> bool {
+    let v = top.wave_speeds().cs.min(bottom.wave_speeds().cs);
+    let stiffness = |s: Solid| {
+        let x = (v / s.wave_speeds().cs).powi(2);
+        let (a, b) = ((1.0 - x).max(0.0).sqrt(), (1.0 - x / (s.eta() * s.eta())).sqrt());
+        let d = 1.0 - a * b;
+        let (a11, a22, g) = (x * b / d, x * a / d, 2.0 - x / d);
+        s.shear_modulus() * (a11 * a22 - g * g) / a11
+    };
+    top == bottom || stiffness(top) + stiffness(bottom) < 0.0
 }
 
 /// Grid points per process zone below which a run is refused (the zone falls between points).

@@ -214,3 +214,25 @@ fn coulomb_friction_between_two_materials_needs_t_star() {
     let same = split_scene(PAPER_BODY, PAPER_BODY).replace("t_star = 2e-5 ", "t_star = 0.0 ");
     assert!(Scene::from_toml_str(&same).is_ok());
 }
+
+#[test]
+fn a_contrast_past_the_generalized_rayleigh_limit_is_warned_about() {
+    // c_s 20 % apart through μ: the wave exists; 30 %: it does not (0.9945 c_s and none, by the
+    // independent form of compare's theory)
+    let ok = Scene::from_toml_str(&split_scene(PAPER_BODY, FASTER_BODY)).unwrap();
+    assert!(
+        !ok.warnings().iter().any(|w| w.contains("generalized Rayleigh")),
+        "{:?}",
+        ok.warnings()
+    );
+    let far = "youngs_modulus = 118.3e6\npoisson_ratio = 0.35\ndensity = 1230.0";
+    let s = Scene::from_toml_str(&split_scene(PAPER_BODY, far)).unwrap();
+    assert!(
+        s.warnings()
+            .iter()
+            .any(|w| w.starts_with("material: no generalized Rayleigh wave")),
+        "{:?}",
+        s.warnings()
+    );
+    assert!(slip_wave_exists(s.top(), s.top()));
+}

@@ -146,3 +146,42 @@ mod tests {
         }
     }
 }
+
+#[cfg(test)]
+mod against_the_spectral_model {
+    use super::*;
+
+    /// The spectral model's own existence test (from its half-space relations) and this module's
+    /// (from the Rayleigh function) agree on either side of the limit, for contrasts through μ
+    /// and through ρ, and for two Poisson ratios.
+    #[test]
+    fn both_forms_agree_on_where_the_wave_exists() {
+        let mut changes = 0;
+        for nu2 in [0.35, 0.25] {
+            for r in (0..=40).map(|i| 1.0 + 0.0125 * i as f64) {
+                for (mu2, rho2) in [(r * r * 70e6 / 2.7, 1230.0), (70e6 / 2.7, 1230.0 / (r * r))] {
+                    let top = spectral::Solid {
+                        youngs_modulus: 70e6,
+                        poisson_ratio: 0.35,
+                        density: 1230.0,
+                    };
+                    let bottom = spectral::Solid {
+                        youngs_modulus: 2.0 * mu2 * (1.0 + nu2),
+                        poisson_ratio: nu2,
+                        density: rho2,
+                    };
+                    let a = HalfSpace::new(0.35, 70e6 / 2.7, 1230.0).unwrap();
+                    let b = HalfSpace::new(nu2, mu2, rho2).unwrap();
+                    let theory = generalized_rayleigh_speed(&a, &b).is_some();
+                    assert_eq!(
+                        spectral::slip_wave_exists(top, bottom),
+                        theory,
+                        "ν₂ = {nu2}, r = {r}"
+                    );
+                    changes += usize::from(!theory);
+                }
+            }
+        }
+        assert!(changes > 0, "the range must cross the existence limit");
+    }
+}
