@@ -24,6 +24,16 @@ pub struct TipRow {
     pub cz_tip_left: f64,
 }
 
+/// One of the two tips of a centre crack.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Tip {
+    /// The tip at larger x (running in +x).
+    Right,
+    /// The tip at smaller x (running in −x).
+    Left,
+}
+
 /// A sampled scalar history y(t); times strictly increasing.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Series {
@@ -39,6 +49,22 @@ impl Series {
         Series {
             t: rows.iter().map(|r| r.t).collect(),
             y: rows.iter().map(|r| 0.5 * (r.tip_right - r.tip_left)).collect(),
+        }
+    }
+
+    /// Distance of one tip from the crack centre `center` [m]: x_right − center for the right tip,
+    /// center − x_left for the left one. With two different half-spaces the tips run apart
+    /// unlike each other, and each is compared on its own.
+    pub fn tip_distance(rows: &[TipRow], center: f64, tip: Tip) -> Series {
+        Series {
+            t: rows.iter().map(|r| r.t).collect(),
+            y: rows
+                .iter()
+                .map(|r| match tip {
+                    Tip::Right => r.tip_right - center,
+                    Tip::Left => center - r.tip_left,
+                })
+                .collect(),
         }
     }
 

@@ -105,13 +105,20 @@ pub struct Case {
     pub cr: f64,
     /// Far-field normal stress after its ramp, s_yy [Pa] (negative in compression).
     pub normal_stress: f64,
+    /// Two different half-spaces (`[material.top]` and `[material.bottom]`); `None`: one material.
+    pub bimaterial: Option<crate::gate::bimaterial::Pair>,
 }
 
 impl Case {
     /// The a/c_d time shift [s] applied to the spectral curves (paper Figure 7b): the time a
-    /// dilatational wave needs from the FE model's top boundary (y = a) to the crack plane.
+    /// dilatational wave needs from the FE model's top boundary (y = a) to the crack plane. With
+    /// two materials the top and bottom boundaries' waves arrive at a/c_d⁺ and a/c_d⁻; the shift
+    /// is their mean.
     pub fn shift(&self) -> f64 {
-        self.half_length / self.cd
+        match &self.bimaterial {
+            None => self.half_length / self.cd,
+            Some(p) => 0.5 * (self.half_length / p.top.cd + self.half_length / p.bottom.cd),
+        }
     }
 }
 
@@ -283,6 +290,11 @@ impl Study {
             cd: w.cd,
             cr: w.cr,
             normal_stress: self.fem.loading.normal.final_value,
+            bimaterial: self
+                .spectral
+                .as_ref()
+                .filter(|s| s.is_split())
+                .map(|s| crate::gate::bimaterial::Pair::new(s.top(), s.bottom())),
         }
     }
 

@@ -5,17 +5,23 @@
 //! friction-delay limits stand as first set; the onset limit was first 0.01 T at paper
 //! resolution and became 0.015 T there, with 0.01 T kept at h = 0.5 mm, after 0.0141 T had failed.
 
-use crate::series::{Series, TipRow, mean_speed, onset};
+use crate::series::{Series, Tip, TipRow, mean_speed, onset};
 use crate::study::Case;
 use serde::Serialize;
 
 /// The names of the gate's metrics, as `metrics.csv` and the printed table give them.
-pub const METRIC_NAMES: [&str; 5] = [
+pub const METRIC_NAMES: [&str; 11] = [
     "onset_difference_over_T",
     "tip_position_rms_over_a",
     "mean_speed_relative_difference",
     "friction_delay_sign_product_over_T2",
     "friction_delay_difference_over_T",
+    "right_tip_onset_difference_over_T",
+    "right_tip_position_rms_over_a",
+    "right_tip_mean_speed_relative_difference",
+    "left_tip_onset_difference_over_T",
+    "left_tip_position_rms_over_a",
+    "left_tip_mean_speed_relative_difference",
 ];
 
 /// The failing metrics of `verdicts` as METRIC@MU, after checking `open`, the metrics known to
@@ -179,8 +185,48 @@ pub fn rms_from_common_origin(fem: &Series, spec: &Series, a: f64) -> Option<f64
     (n > 0).then(|| (sum / n as f64).sqrt())
 }
 
+/// The names of the per-μ metrics measured on the half-length, as the centre crack gates them.
+const HALF_LENGTH_NAMES: [&str; 3] = [
+    "onset_difference_over_T",
+    "tip_position_rms_over_a",
+    "mean_speed_relative_difference",
+];
+
+/// The per-μ metrics of each tip of a crack between two different half-spaces, measured on the
+/// tip's distance to the centre as the centre crack's are on the half-length.
+const TIP_NAMES: [(Tip, [&str; 3]); 2] = [
+    (
+        Tip::Right,
+        [
+            "right_tip_onset_difference_over_T",
+            "right_tip_position_rms_over_a",
+            "right_tip_mean_speed_relative_difference",
+        ],
+    ),
+    (
+        Tip::Left,
+        [
+            "left_tip_onset_difference_over_T",
+            "left_tip_position_rms_over_a",
+            "left_tip_mean_speed_relative_difference",
+        ],
+    ),
+];
+
 /// The three per-μ metrics. `spec` is unshifted; the shift comes from `scales`.
 pub fn per_mu(mu: f64, fem: &Series, spec: &Series, scales: &CaseScales, tol: &Tolerances) -> Vec<Verdict> {
+    per_mu_named(HALF_LENGTH_NAMES, mu, fem, spec, scales, tol)
+}
+
+/// The three per-μ metrics under the given names (onset, RMS, speed).
+fn per_mu_named(
+    names: [&'static str; 3],
+    mu: f64,
+    fem: &Series,
+    spec: &Series,
+    scales: &CaseScales,
+    tol: &Tolerances,
+) -> Vec<Verdict> {
     let a = scales.half_length;
     let onset_diff = match (onset(fem, a), onset(spec, a)) {
         (Some(tf), Some(ts)) => (tf - (ts + scales.shift)).abs() / scales.duration,
@@ -192,22 +238,10 @@ pub fn per_mu(mu: f64, fem: &Series, spec: &Series, scales: &CaseScales, tol: &T
         _ => f64::NAN,
     };
     vec![
-        at_most(
-            "onset_difference_over_T",
-            mu.to_string(),
-            onset_diff,
-            tol.onset_over_t,
-        )
-        .noted(|| reasons(fem, spec, a, false)),
-        at_most("tip_position_rms_over_a", mu.to_string(), rms, tol.rms_over_a)
-            .noted(|| reasons(fem, spec, a, true)),
-        at_most(
-            "mean_speed_relative_difference",
-            mu.to_string(),
-            speed,
-            tol.speed_rel,
-        )
-        .noted(|| reasons(fem, spec, a, true)),
+        at_most(names[0], mu.to_string(), onset_diff, tol.onset_over_t)
+            .noted(|| reasons(fem, spec, a, false)),
+        at_most(names[1], mu.to_string(), rms, tol.rms_over_a).noted(|| reasons(fem, spec, a, true)),
+        at_most(names[2], mu.to_string(), speed, tol.speed_rel).noted(|| reasons(fem, spec, a, true)),
     ]
 }
 
@@ -261,7 +295,8 @@ pub fn friction_delay(
 }
 
 /// Every metric of the comparison: the per-μ metrics, and the friction delays of each μ
-/// against the smallest.
+/// against the smallest. Between two different half-spaces the per-μ metrics are taken for each
+/// tip on its own, since the two run differently (docs/results.md, "A bimaterial interface").
 pub fn verdicts(case: &Case, runs: &[MuRuns], tol: &Tolerances) -> Vec<Verdict> {
     let scales = CaseScales {
         half_length: case.half_length,
@@ -271,8 +306,22 @@ pub fn verdicts(case: &Case, runs: &[MuRuns], tol: &Tolerances) -> Vec<Verdict> 
     let hl = |r: &MuRuns| (Series::half_length(&r.fem), Series::half_length(&r.spectral));
     let mut out = Vec::new();
     for r in runs {
-        let (f, s) = hl(r);
-        out.extend(per_mu(r.mu, &f, &s, &scales, tol));
+        if case.bimaterial.is_some() {
+            for (tip, names) in TIP_NAMES {
+                let d = |rows: &[TipRow]| Series::tip_distance(rows, case.center_x, tip);
+                out.extend(per_mu_named(
+                    names,
+                    r.mu,
+                    &d(&r.fem),
+                    &d(&r.spectral),
+                    &scales,
+                    tol,
+                ));
+            }
+        } else {
+            let (f, s) = hl(r);
+            out.extend(per_mu(r.mu, &f, &s, &scales, tol));
+        }
     }
     let reference = runs.iter().min_by(|a, b| a.mu.total_cmp(&b.mu));
     if let Some(r0) = reference {
@@ -359,6 +408,82 @@ mod tests {
         let v = per_mu(0.0, &short, &spec, &SCALES, &PAPER_RESOLUTION);
         assert!(v[0].value.is_finite() && v[0].note.is_empty(), "{v:?}");
         assert_eq!(v[2].note, "FE tip never reached 1.9a");
+    }
+
+    /// Tip rows of a centre crack at 0 whose right tip runs at `vr` and left tip at `vl` [m/s]
+    /// from `t_on`, sampled every 1e-5 s.
+    fn tips(t_on: f64, vr: f64, vl: f64, a: f64) -> Vec<TipRow> {
+        (0..2000)
+            .map(|i| {
+                let t = i as f64 * 1e-5;
+                let grow = (t - t_on).max(0.0);
+                TipRow {
+                    t,
+                    tip_right: a + vr * grow,
+                    tip_left: -a - vl * grow,
+                    cz_tip_right: a + vr * grow,
+                    cz_tip_left: -a - vl * grow,
+                }
+            })
+            .collect()
+    }
+
+    /// Between two different half-spaces each tip is gated on its own. An FE crack whose right tip
+    /// is 20 % fast and whose left tip is 20 % slow has the spectral half-length to the bit, so
+    /// the half-length metrics would pass it; the per-tip ones fail both tips.
+    #[test]
+    fn a_bimaterial_crack_is_gated_tip_by_tip() {
+        let a = 0.125;
+        let pair = crate::gate::bimaterial::Pair::new(
+            spectral::Solid {
+                youngs_modulus: 70e6,
+                poisson_ratio: 0.35,
+                density: 1230.0,
+            },
+            spectral::Solid {
+                youngs_modulus: 100.8e6,
+                poisson_ratio: 0.35,
+                density: 1230.0,
+            },
+        );
+        let mut case = Case {
+            half_length: a,
+            center_x: 0.0,
+            duration: 0.02,
+            cd: 302.2,
+            cr: 135.7,
+            normal_stress: -0.05e6,
+            bimaterial: Some(pair),
+        };
+        let shift = case.shift();
+        let spec = tips(0.012 - shift, 130.0, 100.0, a);
+        let runs = |fem| {
+            [MuRuns {
+                mu: 0.0,
+                fem,
+                spectral: spec.clone(),
+            }]
+        };
+        let same = verdicts(&case, &runs(tips(0.012, 130.0, 100.0, a)), &PAPER_RESOLUTION);
+        assert_eq!(same.len(), 6);
+        assert!(
+            same.iter().all(|v| v.pass && v.metric.contains("_tip_")),
+            "{same:?}"
+        );
+        let skewed = verdicts(&case, &runs(tips(0.012, 156.0, 74.0, a)), &PAPER_RESOLUTION);
+        let failed: Vec<_> = skewed.iter().filter(|v| !v.pass).map(|v| v.metric).collect();
+        assert!(
+            failed.contains(&"right_tip_mean_speed_relative_difference"),
+            "{skewed:?}"
+        );
+        assert!(
+            failed.contains(&"left_tip_mean_speed_relative_difference"),
+            "{skewed:?}"
+        );
+        // the same histories read as one material: the half-length hides the skew
+        case.bimaterial = None;
+        let hidden = verdicts(&case, &runs(tips(0.012, 156.0, 74.0, a)), &PAPER_RESOLUTION);
+        assert!(hidden.iter().all(|v| v.pass), "{hidden:?}");
     }
 
     /// An open metric must fail; one that passes, or names no metric, is an error.

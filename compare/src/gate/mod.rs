@@ -4,6 +4,7 @@
 //! their tolerances, and the figures. Run at the scene's resolution by `compare` and at
 //! h = 0.5 mm by `compare converged`.
 
+pub mod bimaterial;
 pub mod fem_figures;
 pub mod figures;
 pub mod metrics;
@@ -184,6 +185,11 @@ pub fn run_gate(study: &Study, tol: &Tolerances, dir: &Path, rep: &dyn Reporter)
     }
     let verdicts = verdicts(&case, &runs, tol);
     files.push(write_rows(&dir.join("metrics.csv"), &verdicts)?);
+    if let Some(pair) = &case.bimaterial {
+        let shear_sign = study.spectral()?.shear.r#final.signum();
+        let tips = bimaterial::tip_speeds(&case, pair, shear_sign, &runs);
+        files.push(write_rows(&dir.join("bimaterial_tips.csv"), &tips)?);
+    }
     files.extend(figures::tip_figures(dir, &case, &runs)?);
     if let Some((scene, fo)) = &detail {
         files.extend(fem_figures::fem_figures(dir, &case, scene, fo)?);
@@ -238,6 +244,7 @@ mod tests {
             cd: w.cd,
             cr: w.cr,
             normal_stress: scene.loading.normal.final_value,
+            bimaterial: None,
         };
         let tips = crate::runner::fem_tips(&out);
         let runs = [MuRuns {
