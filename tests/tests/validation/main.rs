@@ -32,6 +32,8 @@ mod fem_arc_interface;
 #[cfg(feature = "fem")]
 mod fem_bimaterial;
 #[cfg(feature = "fem")]
+mod fem_bimaterial_grid;
+#[cfg(feature = "fem")]
 mod fem_center_crack;
 #[cfg(feature = "fem")]
 mod fem_chains;
