@@ -310,6 +310,7 @@ fn interface(scene: &Scene, row: Option<InterfaceRow>) -> Interface {
             friction_coeff: scene.friction_coeff,
             max_gap: f.max_gap,
             projection_tolerance: f.projection_tolerance,
+            prakash_ratio: (f.t_star > 0.0).then(|| scene.time_step() / f.t_star),
         }),
         friction_failed_only: scene.contact_friction == crate::scene::ContactFriction::FailedOnly,
         row,

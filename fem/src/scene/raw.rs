@@ -128,6 +128,7 @@ pub(crate) struct RawFem {
     pub time_step: Option<f64>,
     pub eps_n: Option<f64>,
     pub eps_t: Option<f64>,
+    pub t_star: Option<f64>,
     pub lateral_contraction: Option<bool>,
     pub mode_ii_uy: Option<bool>,
     pub output_interval: f64,

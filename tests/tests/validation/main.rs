@@ -58,6 +58,8 @@ mod fem_patch_test;
 #[cfg(feature = "fem")]
 mod fem_point_loads;
 #[cfg(feature = "fem")]
+mod fem_prakash;
+#[cfg(feature = "fem")]
 mod fem_unstructured_waves;
 #[cfg(feature = "fem")]
 mod fem_wave_speeds;
