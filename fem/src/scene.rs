@@ -508,6 +508,13 @@ mod tests {
         let text = center_crack().replace("model = \"hybrid\"", "model = \"hybird\"");
         let e = Scene::from_toml_str(&text).unwrap_err().to_string();
         assert!(e.contains("fem.model"), "{e}");
+        for bad in ["-1e-5", "inf", "nan"] {
+            let text = center_crack().replace("\n[fem]", &format!("\n[fem]\nt_star = {bad}"));
+            let e = Scene::from_toml_str(&text).unwrap_err().to_string();
+            assert!(e.contains("fem.t_star") && e.contains(">= 0 s"), "{bad}: {e}");
+        }
+        let text = center_crack().replace("\n[fem]", "\n[fem]\nt_star = 2e-5");
+        assert_eq!(Scene::from_toml_str(&text).unwrap().fem.t_star, 2e-5);
         let text = center_crack().replace("[fem]", "[fem]\nunknown_key = 1");
         assert!(Scene::from_toml_str(&text).is_err());
     }
