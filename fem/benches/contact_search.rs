@@ -59,6 +59,7 @@ fn bench_resolve(c: &mut Criterion) {
         friction_coeff: 0.3,
         max_gap: H,
         projection_tolerance: 1e-3,
+        prakash_ratio: None,
     };
     let twins = vec![u32::MAX; n];
     let mut state = ContactState::new(n);

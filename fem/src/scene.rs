@@ -7,6 +7,7 @@ mod damping;
 mod diagnostics;
 mod fem;
 mod interface_spec;
+mod material;
 mod mesh;
 mod paraview;
 mod problem;
@@ -36,8 +37,12 @@ use raw::{RawRamp, RawScene};
 pub struct Scene {
     /// Scene name.
     pub name: String,
-    /// Bulk material (plane strain).
+    /// Bulk material (plane strain): of the whole body, or with a split `[material]` of the body
+    /// above the interface row (`[material.top]`, y > 0); [`Scene::material_below`] gives the other.
     pub material: PlaneStrain,
+    /// `[material.bottom]`, the body below the interface row (y < 0) of a split `[material]`;
+    /// `None`: the same as `material` (the flat table).
+    pub bottom_material: Option<PlaneStrain>,
     /// Cohesive law of the interface row outside the pre-crack; `None`: no cohesive interface.
     pub interface: Option<LinearCohesive>,
     /// Pre-crack; `None`: none.
@@ -180,9 +185,16 @@ impl Scene {
     }
 
     /// Plane-strain wave speeds of `[material]` [m/s] (with `[fem.mesh.materials]`, of the
-    /// elements without a material of their own; [`Scene::materials`] lists every material).
+    /// elements without a material of their own; with a split `[material]`, of the top body,
+    /// `[material.top]`; [`Scene::materials`] lists every material).
     pub fn wave_speeds(&self) -> WaveSpeeds {
         self.material.wave_speeds()
+    }
+
+    /// The material of the body below the interface row: `[material.bottom]` of a split
+    /// `[material]`, else `material` itself.
+    pub fn material_below(&self) -> PlaneStrain {
+        self.bottom_material.unwrap_or(self.material)
     }
 
     /// Whether node-to-segment contact runs (hybrid model with a pre-crack or a cohesive interface).
@@ -199,9 +211,16 @@ impl Scene {
     /// With several materials (`[fem.mesh.materials]`), the smallest over the elements of
     /// α h_e/c_d,e · f(ε h_e/E_e), each element with its own length and material: per material
     /// that is its shortest element's, since h f(εh/E) grows with h.
+    /// On the built-in grid with a split `[material]`, the smaller of the two materials' at the
+    /// grid's shortest edge: the faster material's, up to the penalty factor.
     pub fn stable_limit(&self) -> f64 {
         match self.fem.mesh.as_ref().filter(|m| !m.materials.is_empty()) {
-            None => self.stable_limit_of(&self.material, self.fem.min_edge()),
+            None => match &self.bottom_material {
+                None => self.stable_limit_of(&self.material, self.fem.min_edge()),
+                Some(bottom) => self
+                    .stable_limit_of(&self.material, self.fem.min_edge())
+                    .min(self.stable_limit_of(bottom, self.fem.min_edge())),
+            },
             Some(m) => std::iter::once(&self.material)
                 .chain(&m.materials)
                 .zip(&m.min_length)
@@ -221,19 +240,20 @@ impl Scene {
         crate::law::elastic::stable_time_step(fem::MAX_SAFETY, h, material.wave_speeds().cd, beta_p)
     }
 
-    /// Every bulk material of the scene: `[material]`, then those of `[fem.mesh.materials]`
-    /// (element material index k is the k-th).
+    /// Every bulk material of the scene: `[material]` (the top one of a split table), then
+    /// `[material.bottom]` or those of `[fem.mesh.materials]` (element material index k is the k-th).
     pub fn materials(&self) -> Vec<PlaneStrain> {
         let mut out = vec![self.material];
+        out.extend(self.bottom_material);
         if let Some(m) = &self.fem.mesh {
             out.extend(&m.materials);
         }
         out
     }
 
-    /// Whether the bulk has several materials (`[fem.mesh.materials]` given).
+    /// Whether the bulk has several materials (`[fem.mesh.materials]` or a split `[material]`).
     pub fn has_several_materials(&self) -> bool {
-        self.fem.mesh.as_ref().is_some_and(|m| !m.materials.is_empty())
+        self.bottom_material.is_some() || self.fem.mesh.as_ref().is_some_and(|m| !m.materials.is_empty())
     }
 }
 
@@ -260,7 +280,7 @@ fn crack(c: &raw::RawCrack) -> Result<Crack, SceneError> {
 fn validate(raw: RawScene) -> Result<Scene, SceneError> {
     let kept = raw.clone();
     let mut errors = Vec::new();
-    let material = keep(&mut errors, checks::material("material", &raw.material));
+    let material = material::materials(&raw.material, raw.fem.mesh.is_some(), &mut errors);
     let interface = keep(&mut errors, raw.interface.as_ref().map(interface).transpose());
     let crack = keep(&mut errors, raw.crack.as_ref().map(crack).transpose());
     let friction_coeff = raw.friction.as_ref().map_or(0.0, |f| f.friction_coeff);
@@ -323,9 +343,11 @@ fn validate(raw: RawScene) -> Result<Scene, SceneError> {
     else {
         return Err(collected(errors));
     };
+    let (material, bottom_material) = material;
     let mut scene = Scene {
         name: raw.name.unwrap_or_else(|| "unnamed".to_string()),
         material,
+        bottom_material,
         interface,
         crack,
         friction_coeff,
@@ -351,6 +373,9 @@ fn validate(raw: RawScene) -> Result<Scene, SceneError> {
 /// needs ε_n > 0, a requested Δt [s] must be stable (else the step is α/α_max of the limit), and
 /// ParaView's files over the `duration` [s] must stay within their limit.
 fn cross_checks(scene: &mut Scene, duration: f64, errors: &mut Vec<SceneError>) {
+    if scene.bottom_material.is_some() {
+        keep(errors, material::split_boundary(scene.fem.boundary.as_ref()));
+    }
     if !scene.fem.interface_zones.is_empty() && scene.interface.is_none() {
         errors.push(checks::inconsistent(
             "fem.interface_zones",
@@ -483,6 +508,13 @@ mod tests {
         let text = center_crack().replace("model = \"hybrid\"", "model = \"hybird\"");
         let e = Scene::from_toml_str(&text).unwrap_err().to_string();
         assert!(e.contains("fem.model"), "{e}");
+        for bad in ["-1e-5", "inf", "nan"] {
+            let text = center_crack().replace("\n[fem]", &format!("\n[fem]\nt_star = {bad}"));
+            let e = Scene::from_toml_str(&text).unwrap_err().to_string();
+            assert!(e.contains("fem.t_star") && e.contains(">= 0 s"), "{bad}: {e}");
+        }
+        let text = center_crack().replace("\n[fem]", "\n[fem]\nt_star = 2e-5");
+        assert_eq!(Scene::from_toml_str(&text).unwrap().fem.t_star, 2e-5);
         let text = center_crack().replace("[fem]", "[fem]\nunknown_key = 1");
         assert!(Scene::from_toml_str(&text).is_err());
     }

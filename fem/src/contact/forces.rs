@@ -5,7 +5,7 @@
 use nalgebra::Vector2;
 
 use super::geometry::{Projection, SegmentFrame, point_at, segment_frame, shape};
-use crate::law::friction::{Friction, FrictionInput, FrictionStep, return_map};
+use crate::law::friction::{Friction, FrictionInput, FrictionStep, regularized_normal, return_map};
 use crate::law::penalty::normal_pressure;
 
 /// Algorithm 1 averaging weight: each slave keeps ½ of its own force and ½ reaches it back as a
@@ -66,6 +66,9 @@ pub(crate) struct SlaveHistory {
 pub(crate) struct ContactResponse {
     /// Normal pressure p_N = ε_n p [Pa].
     pub normal_pressure: f64,
+    /// Normal pressure σ̃ of the Coulomb strength μ σ̃ [Pa]: p_N regularised by eq. (14) where
+    /// friction acts (μ > 0), relaxing towards 0 where it does not; exactly p_N with t* = 0.
+    pub friction_pressure: f64,
     /// Friction result (T along t_e [Pa], stick/slip, plastic slip [m]).
     pub friction: FrictionStep,
     /// Total force on the slave before averaging, F = A_i (p_N n_e + T t_e) [N/m].
@@ -78,7 +81,8 @@ pub(crate) struct ContactResponse {
 /// Normal penalty (eq. 8 left, §5.2) and friction return map (§5.3) for slave `node` of area
 /// `area` [m] projected onto master `segment` with `proj`. `history` is `None` when the slave had
 /// no contact element in the previous step: then T = 0 (friction starts one step after first
-/// contact, as in Akantu).
+/// contact, as in Akantu). `regularized_prev` is the slave's σ̃ [Pa] of the previous step
+/// (eq. 14; unused with t* = 0).
 ///
 /// x_ρ,prev is rebuilt on the **previous** segment with ξ_prev at current positions, so moving
 /// onto a neighbouring segment gives no spurious slip (docs/fem-model.md §10.17).
@@ -94,10 +98,13 @@ pub(crate) fn respond(
     law: &Friction,
     area: f64,
     (segment, proj): ([u32; 2], &Projection),
-    history: Option<&SlaveHistory>,
+    (history, regularized_prev): (Option<&SlaveHistory>, f64),
     x: &[Vector2<f64>],
 ) -> ContactResponse {
     let p_n = normal_pressure(eps_n, -proj.gap);
+    // σ of eq. (14): the pressure where friction acts, none where it does not
+    let sigma = if law.friction_coeff > 0.0 { p_n } else { 0.0 };
+    let friction_pressure = regularized_normal(regularized_prev, sigma, law.prakash_ratio);
     let t_e = proj.frame.tangent;
     let (friction, slip) = match history {
         Some(h) if law.friction_coeff > 0.0 => {
@@ -108,7 +115,7 @@ pub(crate) fn respond(
                 traction_prev: h.traction,
                 transport: h.tangent.dot(&t_e),
                 slip: (x_rho - x_rho_prev).dot(&t_e),
-                normal_pressure: p_n,
+                normal_pressure: friction_pressure,
             };
             (return_map(law, &input), input.slip)
         }
@@ -123,6 +130,7 @@ pub(crate) fn respond(
     };
     ContactResponse {
         normal_pressure: p_n,
+        friction_pressure,
         friction,
         force: (proj.frame.normal * p_n + t_e * friction.traction) * area,
         slip,

@@ -34,6 +34,9 @@ pub(crate) struct ContactParams {
     pub max_gap: f64,
     /// Projection tolerance ε_ext [-]: accept −1 − ε_ext ≤ ξ ≤ 1 + ε_ext (default 1e-3).
     pub projection_tolerance: f64,
+    /// r = Δt/t* [-] of the Prakash regularisation of the friction pressure (paper eq. 14);
+    /// `None`: t* = 0, plain Coulomb.
+    pub prakash_ratio: Option<f64>,
 }
 
 /// Γ_det (paper eq. 10): segments (j1, j2) stored in the counter-clockwise order of their single
@@ -101,6 +104,9 @@ pub(crate) struct ContactState {
     pub penetration: Vec<f64>,
     /// Normal pressure p_N = ε_n p ≥ 0 [Pa].
     pub normal_pressure: Vec<f64>,
+    /// Regularised pressure σ̃ ≥ 0 [Pa] of the Coulomb strength μ σ̃ (paper eq. 14): follows p_N
+    /// over t* while the slave touches with friction, relaxes towards 0 otherwise (p_N with t* = 0).
+    pub regularized_pressure: Vec<f64>,
     /// Signed tangential traction T along the master tangent t_e [Pa].
     pub tangential_traction: Vec<f64>,
     /// Slip (true) or stick (false) this step.
@@ -111,7 +117,8 @@ pub(crate) struct ContactState {
     /// contact: the energy friction takes out of the relative sliding at this slave [J/m]. An
     /// audit quantity, summed from the kinematic slip, not from the return map's plastic slip.
     pub friction_work: Vec<f64>,
-    /// The Coulomb bound of that work, Σ w A μ p_N |Δs| over the slipping steps [J/m].
+    /// The Coulomb bound of that work, Σ w A μ σ̃ |Δs| over the slipping steps [J/m] (σ̃ = p_N
+    /// with t* = 0).
     pub coulomb_work: Vec<f64>,
     /// Friction history of the last step's contact element (None: no contact, history reset).
     history: Vec<Option<SlaveHistory>>,
@@ -124,6 +131,7 @@ impl ContactState {
             in_contact: vec![false; num_nodes],
             penetration: vec![0.0; num_nodes],
             normal_pressure: vec![0.0; num_nodes],
+            regularized_pressure: vec![0.0; num_nodes],
             tangential_traction: vec![0.0; num_nodes],
             slipping: vec![false; num_nodes],
             area: vec![0.0; num_nodes],
@@ -138,6 +146,7 @@ impl ContactState {
         self.in_contact[i] = true;
         self.penetration[i] = -proj.gap;
         self.normal_pressure[i] = r.normal_pressure;
+        self.regularized_pressure[i] = r.friction_pressure;
         self.tangential_traction[i] = r.friction.traction;
         self.slipping[i] = r.friction.slipping;
         self.history[i] = Some(SlaveHistory {
@@ -148,11 +157,14 @@ impl ContactState {
         });
     }
 
-    /// Clears node i's results and friction history (no contact element this step).
-    fn clear(&mut self, i: usize) {
+    /// Clears node i's results and friction history (no contact element this step); its σ̃
+    /// relaxes towards 0 with ratio r = Δt/t* (eq. 14 with σ = 0; `None`: it is 0 at once).
+    fn clear(&mut self, i: usize, prakash_ratio: Option<f64>) {
         self.in_contact[i] = false;
         self.penetration[i] = 0.0;
         self.normal_pressure[i] = 0.0;
+        self.regularized_pressure[i] =
+            crate::law::friction::regularized_normal(self.regularized_pressure[i], 0.0, prakash_ratio);
         self.tangential_traction[i] = 0.0;
         self.slipping[i] = false;
         self.history[i] = None;
@@ -192,7 +204,7 @@ impl ContactWorkspace {
 pub(crate) struct ContactSummary {
     /// Number of slave nodes with a contact element.
     pub contacts: usize,
-    /// Friction dissipation of this step, Σ_slip w A_i μ p_N Δs_p [J/m] (w = ½).
+    /// Friction dissipation of this step, Σ_slip w A_i μ σ̃ Δs_p [J/m] (w = ½; σ̃ = p_N with t* = 0).
     pub friction_dissipation: f64,
     /// Largest penetration [m].
     pub max_penetration: f64,
@@ -236,6 +248,7 @@ pub(crate) fn resolve(
     let law = Friction {
         eps_t: p.eps_t,
         friction_coeff: p.friction_coeff,
+        prakash_ratio: p.prakash_ratio,
     };
     let no_friction = Friction {
         friction_coeff: 0.0,
@@ -252,7 +265,7 @@ pub(crate) fn resolve(
     // on 2 threads), so short interfaces run in one piece and long ones in parallel.
     let frictionless_law = |i: usize| frictionless.get(i).copied().unwrap_or(false);
     let (grid, frames, area_sum, normal) = (&ws.grid, &ws.frames, &ws.area_sum, &ws.normal);
-    let history = &state.history;
+    let (history, regularized) = (&state.history, &state.regularized_pressure);
     nodes
         .par_iter()
         .with_min_len(1024)
@@ -268,7 +281,14 @@ pub(crate) fn resolve(
                 let segment = segments[e as usize];
                 let law = if frictionless_law(i) { &no_friction } else { &law };
                 let area = area_sum[i].norm();
-                let r = respond(p.eps_n, law, area, (segment, &proj), history[i].as_ref(), x);
+                let r = respond(
+                    p.eps_n,
+                    law,
+                    area,
+                    (segment, &proj),
+                    (history[i].as_ref(), regularized[i]),
+                    x,
+                );
                 Detected::Hit { segment, proj, r }
             })
         })
@@ -281,7 +301,7 @@ pub(crate) fn resolve(
         let (segment, proj, r) = match *detected {
             Detected::Lost(lost) => {
                 summary.dropped += usize::from(lost);
-                state.clear(i);
+                state.clear(i, p.prakash_ratio);
                 continue;
             }
             Detected::Hit { segment, proj, r } => (segment, proj, r),
@@ -293,10 +313,10 @@ pub(crate) fn resolve(
         summary.max_penetration = summary.max_penetration.max(-proj.gap);
         let w_area = forces::AVERAGING_WEIGHT * area;
         summary.friction_dissipation +=
-            w_area * law.friction_coeff * r.normal_pressure * r.friction.plastic_slip;
+            w_area * law.friction_coeff * r.friction_pressure * r.friction.plastic_slip;
         state.friction_work[i] -= w_area * r.friction.traction * r.slip;
         if r.friction.slipping && law.friction_coeff > 0.0 {
-            state.coulomb_work[i] += w_area * law.friction_coeff * r.normal_pressure * r.slip.abs();
+            state.coulomb_work[i] += w_area * law.friction_coeff * r.friction_pressure * r.slip.abs();
         }
     }
     summary

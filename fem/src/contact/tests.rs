@@ -16,6 +16,7 @@ pub(super) fn params(friction_coeff: f64) -> ContactParams {
         friction_coeff,
         max_gap: H,
         projection_tolerance: 1e-3,
+        prakash_ratio: None,
     }
 }
 

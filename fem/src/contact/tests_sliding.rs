@@ -72,6 +72,7 @@ fn plastic_slip_of_one_slave_equals_its_motion_across_junctions() {
     let law = crate::law::friction::Friction {
         eps_t: EPS,
         friction_coeff: 0.3,
+        prakash_ratio: None,
     };
     let limits = Limits {
         max_gap: H,
@@ -89,7 +90,7 @@ fn plastic_slip_of_one_slave_equals_its_motion_across_junctions() {
         let (e, proj) = closest_master(&s, &grid, &segments, &frames_of(&segments, &x), &x, &limits).unwrap();
         seen.insert(e);
         let seg = segments[e as usize];
-        let r = forces::respond(EPS, &law, H, (seg, &proj), history.as_ref(), &x);
+        let r = forces::respond(EPS, &law, H, (seg, &proj), (history.as_ref(), 0.0), &x);
         if pass >= 2 {
             assert!(r.friction.slipping);
             let dsp = r.friction.plastic_slip;

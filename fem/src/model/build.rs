@@ -37,6 +37,8 @@ pub(crate) struct MeshParts {
     pub mass: Vec<f64>,
     pub iface: Option<InterfaceRow>,
     pub boundary: loading::BoundaryData,
+    /// Material index of each bulk element into `Scene::materials` (empty: all of material 0).
+    pub element_material: Vec<u8>,
 }
 
 /// As [`build`], with the interface row (y = 0) mapped onto y = f(x) [m] (paper Section 4 meshes).
@@ -45,9 +47,16 @@ pub fn build_with_row_map(
     row_map: Option<&dyn Fn(f64) -> f64>,
 ) -> Result<(Model, State, Workspace), BuildError> {
     let grid = grid(scene, row_map);
-    let d = scene.material.d_matrix();
-    let stiffness = stiffness(&grid, &d)?;
-    let mass = lumped_masses(&grid, scene.material.density);
+    let element_material = grid_element_material(scene, &grid);
+    let (stiffness, mass) = if element_material.is_empty() {
+        let d = scene.material.d_matrix();
+        (
+            stiffness(&grid, &d)?,
+            lumped_masses(&grid, scene.material.density),
+        )
+    } else {
+        split_bulk(scene, &grid, &element_material)?
+    };
     let crack = scene.crack.map(|c| (c.center_x, c.half_length));
     let iface = InterfaceRow::new(&grid, crack, scene.interface.is_some());
     let boundary = loading::boundary(scene, &grid);
@@ -59,6 +68,7 @@ pub fn build_with_row_map(
             mass,
             iface,
             boundary,
+            element_material,
         },
     )
 }
@@ -89,6 +99,7 @@ fn build_on_mesh(scene: &Scene, spec: &MeshSpec) -> Result<(Model, State, Worksp
             mesh: BulkMesh::Gmsh(Box::new(GmshBulk { kernel, elements })),
             iface: p.row.clone(),
             boundary: loading::boundary_on_mesh(scene, p),
+            element_material: spec.element_material.clone(),
         },
     )
 }
@@ -191,6 +202,7 @@ pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State,
         mass,
         iface,
         boundary: bd,
+        element_material,
     } = parts;
     let mut fixed_dof = vec![[false; 2]; x0.len()];
     for p in &bd.prescribed {
@@ -231,7 +243,7 @@ pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State,
         bulk: Bulk {
             mesh,
             d: scene.materials().iter().map(|m| m.d_matrix()).collect(),
-            element_material: f.mesh.as_ref().map_or(Vec::new(), |m| m.element_material.clone()),
+            element_material,
             mass,
             deferred,
             x0,
@@ -298,6 +310,7 @@ fn interface(scene: &Scene, row: Option<InterfaceRow>) -> Interface {
             friction_coeff: scene.friction_coeff,
             max_gap: f.max_gap,
             projection_tolerance: f.projection_tolerance,
+            prakash_ratio: (f.t_star > 0.0).then(|| scene.time_step() / f.t_star),
         }),
         friction_failed_only: scene.contact_friction == crate::scene::ContactFriction::FailedOnly,
         row,
@@ -376,7 +389,7 @@ fn facet_centres(iface: &Option<InterfaceRow>) -> impl Iterator<Item = f64> + '_
 fn grid(scene: &Scene, row_map: Option<&dyn Fn(f64) -> f64>) -> Grid {
     let f = &scene.fem;
     let h = f.element_size;
-    let jc = (-f.y_range[0] / h).round() as usize;
+    let jc = interface_row(scene);
     let twinned = scene.crack.is_some() || scene.interface.is_some();
     Grid::new(&GridSpec {
         x_range: f.x_range,
@@ -387,6 +400,52 @@ fn grid(scene: &Scene, row_map: Option<&dyn Fn(f64) -> f64>) -> Grid {
         upper_shift: f.upper_offset * h,
         row_map: row_map.map(|m| (jc, m)),
     })
+}
+
+/// Node row of the interface (y = 0) on the scene's grid.
+pub(crate) fn interface_row(scene: &Scene) -> usize {
+    (-scene.fem.y_range[0] / scene.fem.element_size).round() as usize
+}
+
+/// With a split `[material]`, the material of each grid element: 0 (`[material.top]`) for the
+/// element rows above the interface row, whose centroids lie above it, 1 (`[material.bottom]`)
+/// below; empty with one material.
+fn grid_element_material(scene: &Scene, grid: &Grid) -> Vec<u8> {
+    if scene.bottom_material.is_none() {
+        return Vec::new();
+    }
+    let jc = interface_row(scene);
+    (0..grid.num_elements())
+        .map(|e| if e / grid.nx >= jc { 0 } else { 1 })
+        .collect()
+}
+
+/// Stiffness (one K_e per element, each with its own material's D) and row-sum lumped masses
+/// [kg/m] (each element with its own density) of a grid of several materials.
+fn split_bulk(
+    scene: &Scene,
+    grid: &Grid,
+    element_material: &[u8],
+) -> Result<(Stiffness, Vec<f64>), BuildError> {
+    let materials = scene.materials();
+    let d: Vec<_> = materials.iter().map(|m| m.d_matrix()).collect();
+    let ke = (0..grid.num_elements())
+        .map(|e| {
+            bulk::stiffness(&grid.element_coords(e), &d[element_material[e] as usize])
+                .map_err(|det_j| BuildError::InvertedElement { element: e, det_j })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut mass = vec![0.0; grid.num_nodes()];
+    for e in 0..grid.num_elements() {
+        let m = bulk::lumped_mass(
+            &grid.element_coords(e),
+            materials[element_material[e] as usize].density,
+        );
+        for (k, n) in grid.element_nodes(e).iter().enumerate() {
+            mass[*n as usize] += m[k];
+        }
+    }
+    Ok((Stiffness::PerElement(ke), mass))
 }
 
 /// Row-sum lumped nodal masses [kg/m].
@@ -573,5 +632,46 @@ mod tests {
         );
         let e = Scene::from_toml_str(&text).unwrap_err().to_string();
         assert!(e.contains("fem.interface_polyline"), "{e}");
+    }
+
+    /// A split `[material]` on the grid: every element whose centroid lies above the interface
+    /// row y = 0 is of material 0 (`[material.top]`), every other of material 1; the nodal masses
+    /// are the row sums of each side's own density (a node of the + copy of the row gets ρ_top
+    /// h²/4 per element, of the − copy ρ_bottom h²/4), exact to round-off (1e-12 relative), and the
+    /// per-element stiffness is each side's D.
+    #[test]
+    fn a_split_grid_gives_each_element_its_sides_material() {
+        let scene = Scene::from_toml_str_in(
+            &scene_text("tiny-fem-bimaterial-grid"),
+            std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes")),
+        )
+        .unwrap();
+        let (model, _, _) = super::build(&scene).unwrap();
+        let grid = model.grid().unwrap();
+        let (top, bottom) = (scene.material, scene.material_below());
+        assert_ne!(top.density, bottom.density);
+        let h = scene.fem.element_size;
+        for e in 0..grid.num_elements() {
+            let c = grid.element_coords(e);
+            let yc = 0.25 * c.iter().map(|p| p.y).sum::<f64>();
+            let k = model.bulk.element_material[e];
+            assert_eq!(k, if yc > 0.0 { 0 } else { 1 }, "element {e} at y = {yc}");
+            let want = if yc > 0.0 {
+                top.d_matrix()
+            } else {
+                bottom.d_matrix()
+            };
+            assert_eq!(model.d_of(e), &want);
+        }
+        let row = model.interface.row.as_ref().unwrap();
+        // an interior column: two elements on each side of the row
+        let i = 2;
+        let (mp, mm) = (
+            model.bulk.mass[row.plus[i] as usize],
+            model.bulk.mass[row.minus[i] as usize],
+        );
+        let rel = |a: f64, b: f64| (a / b - 1.0).abs();
+        assert!(rel(mp, 2.0 * top.density * h * h / 4.0) < 1e-12, "{mp}");
+        assert!(rel(mm, 2.0 * bottom.density * h * h / 4.0) < 1e-12, "{mm}");
     }
 }

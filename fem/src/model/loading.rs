@@ -196,6 +196,32 @@ fn impedance(m: &PlaneStrain) -> (f64, f64) {
     (m.density * c.cd, m.density * c.cs)
 }
 
+/// The dashpots (C_xx, C_xy, C_yy) [N·s/m²] of a side's `nodes` on a grid with a split
+/// `[material]`: each half of each side edge adds its length times the impedances of the material
+/// of the element it bounds (ρc_d on the side's normal, ρc_s along it; `horizontal`: the bottom or
+/// top side, whose normal is y).
+fn split_dashpots(scene: &Scene, grid: &Grid, nodes: &[u32], horizontal: bool) -> Vec<[f64; 3]> {
+    let jc = crate::model::build::interface_row(scene);
+    let z = [scene.material, scene.material_below()].map(|m| {
+        let (zd, zs) = impedance(&m);
+        if horizontal { (zs, zd) } else { (zd, zs) }
+    });
+    let mut c = vec![[0.0; 3]; nodes.len()];
+    for k in 0..nodes.len() - 1 {
+        let (p, q) = (nodes[k] as usize, nodes[k + 1] as usize);
+        let half = 0.5 * (grid.x0[q] - grid.x0[p]).norm();
+        // the element row an edge bounds: the row of its lower node's layer on a vertical side
+        // (a zero-length edge between twins adds nothing), the side's own row on a horizontal one
+        let row = grid.layer_row[p / (grid.nx + 1)].min(grid.ny - 1);
+        let (zx, zy) = z[usize::from(row < jc)];
+        for n in [k, k + 1] {
+            c[n][0] += half * zx;
+            c[n][2] += half * zy;
+        }
+    }
+    c
+}
+
 fn sidewise_grid(scene: &Scene, b: &BoundarySpec, grid: &Grid) -> BoundaryData {
     let (zd, zs) = impedance(&scene.material);
     let nodes = side_nodes(grid);
@@ -216,9 +242,10 @@ fn sidewise_grid(scene: &Scene, b: &BoundarySpec, grid: &Grid) -> BoundaryData {
             };
             // a straight side: ρc_d on its normal, ρc_s along it, times the tributary length
             let (zx, zy) = if inward[0] == 0.0 { (zs, zd) } else { (zd, zs) };
-            let dashpots = match c.absorbing {
-                true => tributary.iter().map(|&w| [w * zx, 0.0, w * zy]).collect(),
-                false => Vec::new(),
+            let dashpots = match (c.absorbing, scene.bottom_material) {
+                (true, None) => tributary.iter().map(|&w| [w * zx, 0.0, w * zy]).collect(),
+                (true, Some(_)) => split_dashpots(scene, grid, &nodes[k], inward[0] == 0.0),
+                (false, _) => Vec::new(),
             };
             CurveNodes {
                 positions: part_positions(&nodes[k], &grid.x0),

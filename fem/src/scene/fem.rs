@@ -61,6 +61,9 @@ pub struct FemSpec {
     pub eps_n: f64,
     /// Tangential penalty ε_t [Pa/m].
     pub eps_t: f64,
+    /// Prakash regularisation time t* [s] of the friction pressure (paper eq. 14; `fem.t_star`,
+    /// default 0: plain Coulomb).
+    pub t_star: f64,
     /// Add u_x += −ν (x − x_c) σ_yy/(2G) to the Westergaard field (docs/cases.md).
     pub lateral_contraction: bool,
     /// Add the mode-II part of u_y, [(1 − 2ν) Im ψ − y Re ψ']/(2G), that (C.9) drops (default
@@ -173,6 +176,8 @@ pub(crate) fn validate_fem(
     let damping = keep(errors, damping(f));
     let steps = keep(errors, step_and_penalties(f, duration));
     let distances = keep(errors, contact_distances(f));
+    let t_star = f.t_star.unwrap_or(0.0);
+    keep(errors, check("fem.t_star", t_star, t_star >= 0.0, ">= 0 s"));
     let blocks = keep(errors, blocks_and_boundary(f, crack, duration));
     if let (Some(m), Some((_, Some(b))), true) = (&mesh, &blocks, geometry_ok) {
         keep(errors, kinds_fit_parts(b, m));
@@ -215,6 +220,7 @@ pub(crate) fn validate_fem(
         requested_time_step: f.time_step,
         eps_n,
         eps_t,
+        t_star,
         lateral_contraction: f.lateral_contraction.unwrap_or(true),
         mode_ii_uy: f.mode_ii_uy.unwrap_or(false),
         output_interval: f.output_interval,

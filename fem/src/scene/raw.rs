@@ -6,7 +6,7 @@ use serde::Deserialize;
 #[derive(Debug, Clone, Deserialize)]
 pub(crate) struct RawScene {
     pub name: Option<String>,
-    pub material: RawMaterial,
+    pub material: RawMaterialTable,
     pub interface: Option<RawInterface>,
     pub crack: Option<RawCrack>,
     pub friction: Option<RawFriction>,
@@ -29,6 +29,26 @@ pub(crate) struct RawMaterial {
     pub youngs_modulus: f64,
     pub poisson_ratio: f64,
     pub density: f64,
+}
+
+/// `[material]`: the three flat keys (one material everywhere) or the two subtables `top` and
+/// `bottom` (the bodies above and below the interface row). Every key is optional in the form so
+/// that a missing one is reported by name with the other problems (`scene/material.rs`).
+#[derive(Debug, Clone, Deserialize)]
+pub(crate) struct RawMaterialTable {
+    pub youngs_modulus: Option<f64>,
+    pub poisson_ratio: Option<f64>,
+    pub density: Option<f64>,
+    pub top: Option<RawMaterialHalf>,
+    pub bottom: Option<RawMaterialHalf>,
+}
+
+/// `[material.top]` or `[material.bottom]`.
+#[derive(Debug, Clone, Copy, Deserialize)]
+pub(crate) struct RawMaterialHalf {
+    pub youngs_modulus: Option<f64>,
+    pub poisson_ratio: Option<f64>,
+    pub density: Option<f64>,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -108,6 +128,7 @@ pub(crate) struct RawFem {
     pub time_step: Option<f64>,
     pub eps_n: Option<f64>,
     pub eps_t: Option<f64>,
+    pub t_star: Option<f64>,
     pub lateral_contraction: Option<bool>,
     pub mode_ii_uy: Option<bool>,
     pub output_interval: f64,

@@ -34,6 +34,8 @@ mod fem_arc_interface;
 #[cfg(feature = "fem")]
 mod fem_bimaterial;
 #[cfg(feature = "fem")]
+mod fem_bimaterial_grid;
+#[cfg(feature = "fem")]
 mod fem_center_crack;
 #[cfg(feature = "fem")]
 mod fem_chains;
@@ -57,6 +59,8 @@ mod fem_mesh_center_crack;
 mod fem_patch_test;
 #[cfg(feature = "fem")]
 mod fem_point_loads;
+#[cfg(feature = "fem")]
+mod fem_prakash;
 #[cfg(feature = "fem")]
 mod fem_unstructured_waves;
 #[cfg(feature = "fem")]
