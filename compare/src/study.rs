@@ -184,11 +184,15 @@ impl Study {
                 None
             }
         };
-        if fem.as_ref().is_some_and(fem::Scene::has_several_materials) {
+        if fem
+            .as_ref()
+            .is_some_and(|f| f.fem.mesh.as_ref().is_some_and(|m| !m.materials.is_empty()))
+        {
             bail!(
                 "fem.mesh.materials gives the bulk several materials, and the spectral model the \
-                 harness compares with is two identical half-spaces of [material]: the comparison \
-                 would not be of one problem (run the scene with the fem binary alone)"
+                 harness compares with has one material per half-space ([material], or \
+                 [material.top] and [material.bottom]): the comparison would not be of one problem \
+                 (run the scene with the fem binary alone)"
             );
         }
         let (harness, unknown) =

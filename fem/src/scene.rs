@@ -251,6 +251,25 @@ impl Scene {
         out
     }
 
+    /// What a valid scene does that its user should know before running it: two bulk
+    /// materials that carry no generalized Rayleigh wave (the contrast is past its existence
+    /// limit), so that a mode-II tip has no interface wave speed to tend to.
+    pub fn warnings(&self) -> Vec<String> {
+        let mut w = Vec::new();
+        if let Some(b) = &self.bottom_material
+            && !crate::law::elastic::slip_wave_exists(&self.material, b)
+        {
+            w.push(format!(
+                "material: no generalized Rayleigh wave exists between the top and bottom \
+                 materials (c_s = {:.4e} and {:.4e} m/s; the contrast is past its existence \
+                 limit): a mode-II tip has no interface wave speed below the slower c_s to tend to",
+                self.material.wave_speeds().cs,
+                b.wave_speeds().cs
+            ));
+        }
+        w
+    }
+
     /// Whether the bulk has several materials (`[fem.mesh.materials]` or a split `[material]`).
     pub fn has_several_materials(&self) -> bool {
         self.bottom_material.is_some() || self.fem.mesh.as_ref().is_some_and(|m| !m.materials.is_empty())
@@ -373,8 +392,17 @@ fn validate(raw: RawScene) -> Result<Scene, SceneError> {
 /// needs ε_n > 0, a requested Δt [s] must be stable (else the step is α/α_max of the limit), and
 /// ParaView's files over the `duration` [s] must stay within their limit.
 fn cross_checks(scene: &mut Scene, duration: f64, errors: &mut Vec<SceneError>) {
-    if scene.bottom_material.is_some() {
-        keep(errors, material::split_boundary(scene.fem.boundary.as_ref()));
+    if let Some(bottom) = scene.bottom_material {
+        let top = scene.material;
+        // the Westergaard field and the far field's motion depend on E and ν alone: with the
+        // same elastic constants on both sides (a contrast in ρ only) they are exact as they are
+        if (bottom.youngs_modulus, bottom.poisson_ratio) != (top.youngs_modulus, top.poisson_ratio) {
+            keep(errors, material::split_boundary(scene.fem.boundary.as_ref()));
+        }
+        keep(
+            errors,
+            material::well_posed(&top, &bottom, scene.friction_coeff, scene.fem.t_star),
+        );
     }
     if !scene.fem.interface_zones.is_empty() && scene.interface.is_none() {
         errors.push(checks::inconsistent(

@@ -1,6 +1,6 @@
 //! A centre crack between two different half-spaces: what each tip does. With two materials the
 //! tips are no longer mirror images. The tip that runs in the direction of slip of the more
-//! compliant body (the "positive" direction of Weertman 1980, Andrews & Ben-Zion 1997) is drawn
+//! compliant body, the one with the lower shear-wave speed (the "positive" direction of Weertman 1980, Andrews & Ben-Zion 1997) is drawn
 //! towards the generalized Rayleigh speed c_GR; the other is not (Ranjith & Rice 2001; Rubin &
 //! Ampuero 2007). This module names each tip's direction and sets both models' tip speeds against
 //! c_GR and the slower shear speed. Pure; the gate writes its rows as `bimaterial_tips.csv`.
@@ -59,11 +59,12 @@ impl Pair {
         self.top.cs.min(self.bottom.cs)
     }
 
-    /// The tip that runs in the direction of slip of the more compliant (lower-μ) body under a
-    /// far-field shear of sign `shear_sign`: with s_xy > 0 the top body slides in +x against
-    /// the bottom one, so a compliant top makes it the right tip, a compliant bottom the left.
+    /// The tip that runs in the direction of slip of the more compliant body, the one with the
+    /// lower shear-wave speed, under a far-field shear of sign `shear_sign`: with s_xy > 0 the
+    /// top body slides in +x against the bottom one, so a compliant top makes it the right tip,
+    /// a compliant bottom the left.
     pub fn positive_tip(&self, shear_sign: f64) -> Tip {
-        let top_compliant = self.top.shear_modulus < self.bottom.shear_modulus;
+        let top_compliant = self.top.cs < self.bottom.cs;
         match (top_compliant, shear_sign > 0.0) {
             (true, true) | (false, false) => Tip::Right,
             _ => Tip::Left,

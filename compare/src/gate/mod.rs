@@ -163,7 +163,9 @@ pub fn run_gate(study: &Study, tol: &Tolerances, dir: &Path, rep: &dyn Reporter)
         }
     }
     let (fems, spectrals) = ran.split_at(plans.len());
-    let (mut runs, mut files, mut detail, mut warnings) = (Vec::new(), Vec::new(), None, Vec::new());
+    let (mut runs, mut files, mut detail) = (Vec::new(), Vec::new(), None);
+    let mut warnings: Vec<String> = study.fem.warnings();
+    warnings.extend(study.spectral()?.warnings());
     for ((p, f), s) in plans.iter().zip(fems).zip(spectrals) {
         let (Ran::Fem(f), Ran::Spectral(s)) = (f, s) else {
             unreachable!("invariant: the FE runs come first, then the spectral ones");

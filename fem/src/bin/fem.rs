@@ -50,6 +50,9 @@ fn run() -> anyhow::Result<()> {
         None => None,
     };
     let stop = preflight::stop::on_signal().map_err(|e| anyhow!(e))?;
+    for w in prepared.scene.warnings() {
+        eprintln!("warning: {w}");
+    }
     prepared.announce(&cli.scene, prepared.scene.time_step());
     let Prepared {
         scene,

@@ -82,7 +82,11 @@ pub(crate) struct ContactResponse {
 /// `area` [m] projected onto master `segment` with `proj`. `history` is `None` when the slave had
 /// no contact element in the previous step: then T = 0 (friction starts one step after first
 /// contact, as in Akantu). `regularized_prev` is the slave's σ̃ [Pa] of the previous step
-/// (eq. 14; unused with t* = 0).
+/// (eq. 14; unused with t* = 0), `None` for a slave that has never touched: its σ̃ starts at the
+/// pressure it meets. A facet inserted under compression has carried that compression, tied,
+/// since long before (the spectral model's σ̃ follows the normal stress of every closed point,
+/// intact ones included, docs/spectral-model.md §5.3); starting it from 0 would take friction
+/// away from the process zone for a time t* after each insertion.
 ///
 /// x_ρ,prev is rebuilt on the **previous** segment with ξ_prev at current positions, so moving
 /// onto a neighbouring segment gives no spurious slip (docs/fem-model.md §10.17).
@@ -98,13 +102,16 @@ pub(crate) fn respond(
     law: &Friction,
     area: f64,
     (segment, proj): ([u32; 2], &Projection),
-    (history, regularized_prev): (Option<&SlaveHistory>, f64),
+    (history, regularized_prev): (Option<&SlaveHistory>, Option<f64>),
     x: &[Vector2<f64>],
 ) -> ContactResponse {
     let p_n = normal_pressure(eps_n, -proj.gap);
     // σ of eq. (14): the pressure where friction acts, none where it does not
     let sigma = if law.friction_coeff > 0.0 { p_n } else { 0.0 };
-    let friction_pressure = regularized_normal(regularized_prev, sigma, law.prakash_ratio);
+    let friction_pressure = match regularized_prev {
+        Some(prev) => regularized_normal(prev, sigma, law.prakash_ratio),
+        None => sigma,
+    };
     let t_e = proj.frame.tangent;
     let (friction, slip) = match history {
         Some(h) if law.friction_coeff > 0.0 => {

@@ -107,6 +107,8 @@ pub(crate) struct ContactState {
     /// Regularised pressure σ̃ ≥ 0 [Pa] of the Coulomb strength μ σ̃ (paper eq. 14): follows p_N
     /// over t* while the slave touches with friction, relaxes towards 0 otherwise (p_N with t* = 0).
     pub regularized_pressure: Vec<f64>,
+    /// Whether the slave has ever had a contact element (its σ̃ starts at its first pressure).
+    touched: Vec<bool>,
     /// Signed tangential traction T along the master tangent t_e [Pa].
     pub tangential_traction: Vec<f64>,
     /// Slip (true) or stick (false) this step.
@@ -132,6 +134,7 @@ impl ContactState {
             penetration: vec![0.0; num_nodes],
             normal_pressure: vec![0.0; num_nodes],
             regularized_pressure: vec![0.0; num_nodes],
+            touched: vec![false; num_nodes],
             tangential_traction: vec![0.0; num_nodes],
             slipping: vec![false; num_nodes],
             area: vec![0.0; num_nodes],
@@ -144,6 +147,7 @@ impl ContactState {
     /// Stores node i's contact element of this step: results and next step's friction history.
     fn record(&mut self, i: usize, segment: [u32; 2], proj: &Projection, r: &ContactResponse) {
         self.in_contact[i] = true;
+        self.touched[i] = true;
         self.penetration[i] = -proj.gap;
         self.normal_pressure[i] = r.normal_pressure;
         self.regularized_pressure[i] = r.friction_pressure;
@@ -265,7 +269,7 @@ pub(crate) fn resolve(
     // on 2 threads), so short interfaces run in one piece and long ones in parallel.
     let frictionless_law = |i: usize| frictionless.get(i).copied().unwrap_or(false);
     let (grid, frames, area_sum, normal) = (&ws.grid, &ws.frames, &ws.area_sum, &ws.normal);
-    let (history, regularized) = (&state.history, &state.regularized_pressure);
+    let (history, regularized, touched) = (&state.history, &state.regularized_pressure, &state.touched);
     nodes
         .par_iter()
         .with_min_len(1024)
@@ -286,7 +290,7 @@ pub(crate) fn resolve(
                     law,
                     area,
                     (segment, &proj),
-                    (history[i].as_ref(), regularized[i]),
+                    (history[i].as_ref(), touched[i].then_some(regularized[i])),
                     x,
                 );
                 Detected::Hit { segment, proj, r }

@@ -90,7 +90,7 @@ fn plastic_slip_of_one_slave_equals_its_motion_across_junctions() {
         let (e, proj) = closest_master(&s, &grid, &segments, &frames_of(&segments, &x), &x, &limits).unwrap();
         seen.insert(e);
         let seg = segments[e as usize];
-        let r = forces::respond(EPS, &law, H, (seg, &proj), (history.as_ref(), 0.0), &x);
+        let r = forces::respond(EPS, &law, H, (seg, &proj), (history.as_ref(), Some(0.0)), &x);
         if pass >= 2 {
             assert!(r.friction.slipping);
             let dsp = r.friction.plastic_slip;
@@ -203,4 +203,41 @@ fn faces_sliding_over_20_segments_get_exact_nodal_forces_at_every_step() {
         }
     }
     assert!(worst < 1e-9, "largest relative nodal force deviation {worst:.3e}");
+}
+
+/// A slave that has never touched starts its σ̃ at the pressure it meets (a facet inserted under
+/// compression has carried it, tied, long before); one that touched before relaxes from what it
+/// kept (paper eq. 14). With t* = 0 both are the pressure itself.
+#[test]
+fn the_regularised_pressure_starts_at_the_first_pressure_and_then_relaxes() {
+    let c = faces(3, H, 1, H, 0.0, 0.0);
+    let (segments, mut x) = (c.surface.segments().to_vec(), c.x.clone());
+    let slave = c.upper[0];
+    x[slave as usize] = Vector2::new(0.2 * H, -2.4e-6);
+    let mut grid = BucketGrid::with_capacity(segments.len());
+    grid.rebuild(&segments, &x, H, 1e-3);
+    let s = Slave {
+        node: slave,
+        tied: super::search::UNTIED,
+        normal: Vector2::new(0.0, -1.0),
+    };
+    let limits = Limits {
+        max_gap: H,
+        projection_tolerance: 1e-3,
+    };
+    let (e, proj) = closest_master(&s, &grid, &segments, &frames_of(&segments, &x), &x, &limits).unwrap();
+    let seg = segments[e as usize];
+    let law = |r| crate::law::friction::Friction {
+        eps_t: EPS,
+        friction_coeff: 0.3,
+        prakash_ratio: r,
+    };
+    let p = crate::law::penalty::normal_pressure(EPS, -proj.gap);
+    assert!(p > 0.0);
+    let first = forces::respond(EPS, &law(Some(0.1)), H, (seg, &proj), (None, None), &x);
+    assert_eq!(first.friction_pressure, p);
+    let again = forces::respond(EPS, &law(Some(0.1)), H, (seg, &proj), (None, Some(0.0)), &x);
+    assert!((again.friction_pressure - 0.1 * p / 1.1).abs() <= 1e-15 * p);
+    let plain = forces::respond(EPS, &law(None), H, (seg, &proj), (None, Some(0.0)), &x);
+    assert_eq!(plain.friction_pressure, p);
 }

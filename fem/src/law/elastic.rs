@@ -58,6 +58,23 @@ impl PlaneStrain {
     }
 }
 
+/// Whether two bodies bonded along a slipping, closed interface carry a generalized Rayleigh wave
+/// (Weertman 1963): the speed v < min c_s where the two faces' normal stiffnesses under free slip,
+/// G R(v)/((v/c_s)² α_d) each (R the Rayleigh function, α_d = √(1 − v²/c_d²)), sum to zero. Both
+/// are positive as v → 0; the wave exists when the sum is negative at the slower shear speed.
+/// Identical bodies always carry one (the Rayleigh wave).
+pub fn slip_wave_exists(a: &PlaneStrain, b: &PlaneStrain) -> bool {
+    let v = a.wave_speeds().cs.min(b.wave_speeds().cs);
+    let stiffness = |m: &PlaneStrain| {
+        let w = m.wave_speeds();
+        let x2 = (v / w.cs).powi(2);
+        let (alpha_s, alpha_d) = ((1.0 - x2).max(0.0).sqrt(), (1.0 - (v / w.cd).powi(2)).sqrt());
+        let r = 4.0 * alpha_s * alpha_d - (2.0 - x2).powi(2);
+        m.shear_modulus * r / (x2 * alpha_d)
+    };
+    a == b || stiffness(a) + stiffness(b) < 0.0
+}
+
 /// c_R/c_s from the Rayleigh equation by bisection on x = (c/c_s)² ∈ (0, 1).
 fn rayleigh_ratio(cs_over_cd: f64) -> f64 {
     let k2 = cs_over_cd * cs_over_cd;

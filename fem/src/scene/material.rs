@@ -94,6 +94,31 @@ pub(crate) fn split_boundary(boundary: Option<&BoundarySpec>) -> Result<(), Scen
     }
 }
 
+/// Coulomb friction between two different materials with σ̃ = σ is ill-posed (Adams 1995; Ranjith
+/// & Rice 2001): steady sliding is unstable at every wavelength, with growth rates that rise
+/// without bound as the wavelength falls, so the answer would follow the mesh. The Prakash law
+/// (paper eq. 14) with t* > 0 makes it well-posed: μ > 0 between different halves needs
+/// `fem.t_star` > 0 (docs/fem-model.md, "Prakash regularisation").
+pub(crate) fn well_posed(
+    top: &PlaneStrain,
+    bottom: &PlaneStrain,
+    friction_coeff: f64,
+    t_star: f64,
+) -> Result<(), SceneError> {
+    if top != bottom && friction_coeff > 0.0 && t_star == 0.0 {
+        return Err(inconsistent(
+            "fem.t_star",
+            format!(
+                "0 with friction.friction_coeff = {friction_coeff} between two different \
+                 materials: Coulomb friction on a bimaterial interface is ill-posed without \
+                 regularisation (Adams 1995; Ranjith & Rice 2001), so the result would depend on \
+                 the mesh; give t* > 0 [s] (a few steps or more)"
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// The three keys of a material table with their values.
 fn flat_keys(m: &RawMaterialHalf) -> [(&'static str, Option<f64>); 3] {
     [
@@ -238,5 +263,46 @@ density = 1230.0
         );
         let e = Scene::from_toml_str(&far).unwrap_err().to_string();
         assert!(e.contains("fem.boundary.top.far_field"), "{e}");
+    }
+
+    /// Halves that differ in ρ only keep the Westergaard field (it depends on E and ν alone);
+    /// friction between them needs t* > 0 (ill-posed otherwise), as between any two materials.
+    #[test]
+    fn a_density_contrast_keeps_the_westergaard_field_and_friction_needs_t_star() {
+        let text = scene_text("tiny-fem-center-crack");
+        let (start, end) = (
+            text.find("\n[material]").unwrap(),
+            text.find("\n[interface]").unwrap(),
+        );
+        let light = "[material.top]\nyoungs_modulus = 70e6\npoisson_ratio = 0.35\ndensity = 1230.0\n\
+                     [material.bottom]\nyoungs_modulus = 70e6\npoisson_ratio = 0.35\ndensity = 854.0\n";
+        let scene = format!("{}\n{light}\n{}", &text[..start], &text[end..]);
+        // μ = 0.3 and no t*: refused, naming fem.t_star and why
+        let e = Scene::from_toml_str(&scene).unwrap_err().to_string();
+        assert!(e.contains("fem.t_star") && e.contains("ill-posed"), "{e}");
+        assert!(!e.contains("fem.boundary"), "{e}");
+        let with_t = scene.replace("\n[fem]\n", "\n[fem]\nt_star = 2e-5\n");
+        let s = Scene::from_toml_str(&with_t).unwrap();
+        assert!(s.bottom_material.is_some() && s.fem.boundary.is_none());
+        assert!(s.warnings().is_empty(), "{:?}", s.warnings());
+        // identical halves given apart: no refusal
+        let same = scene.replace("density = 854.0", "density = 1230.0");
+        assert!(Scene::from_toml_str(&same).is_ok());
+    }
+
+    /// A contrast past the generalized Rayleigh wave's existence limit runs with a warning.
+    #[test]
+    fn two_halves_with_no_generalized_rayleigh_wave_are_warned_about() {
+        let far = SPLIT.replace("youngs_modulus = 560e6", "youngs_modulus = 70e6");
+        let s = Scene::from_toml_str(&with_material(&far)).unwrap();
+        assert!(s.warnings().is_empty(), "ρ × 2: {:?}", s.warnings());
+        let s = Scene::from_toml_str(&with_material(SPLIT)).unwrap();
+        assert!(
+            s.warnings()
+                .iter()
+                .any(|w| w.contains("no generalized Rayleigh wave")),
+            "{:?}",
+            s.warnings()
+        );
     }
 }
