@@ -424,14 +424,26 @@ mod tests {
         );
     }
 
-    /// A scene with several bulk materials is refused: the spectral model is two identical
-    /// half-spaces, so the comparison would not be of one problem.
+    /// A mesh with several bulk materials is refused: the spectral model has one material per
+    /// half-space, so the comparison would not be of one problem. A split `[material]` is taken
+    /// by both models, and its case carries the pair.
     #[test]
-    fn a_scene_with_several_materials_is_refused() {
+    fn mesh_materials_are_refused_and_a_split_material_is_compared() {
         let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
         let e = Study::from_toml_str_in(&text("tiny-fem-bimaterial"), "b", Some(&dir)).unwrap_err();
         let e = format!("{e:#}");
-        assert!(e.contains("fem.mesh.materials") && e.contains("identical"), "{e}");
+        assert!(
+            e.contains("fem.mesh.materials") && e.contains("one material per half-space"),
+            "{e}"
+        );
+        let s = Study::from_toml_str(&text("bimaterial-crack"), "b").unwrap();
+        let c = s.case();
+        let pair = c.bimaterial.expect("a split scene carries its pair");
+        assert!((pair.bottom.cs / pair.top.cs - 1.2).abs() < 1e-12);
+        // the shift is the mean of the two boundaries' P-wave times
+        let expected = 0.5 * (c.half_length / pair.top.cd + c.half_length / pair.bottom.cd);
+        assert!((c.shift() - expected).abs() < 1e-15, "{} {expected}", c.shift());
+        assert!(c.shift() < c.half_length / c.cd);
     }
 
     #[test]

@@ -26,7 +26,8 @@ const SECONDS_PER_ELEMENT_STEP: f64 = 5e-9;
 /// The same on a mesh mapped onto an interface polyline (`fem.interface_polyline` or a sine
 /// interface: every element its own shape, forces computed element by element, no one-pass
 /// sweep) [s]: 2.9e-8 measured on the sinusoidal interface (750 × 250, 14 632 steps, 80 s on 2
-/// threads for either model); rounded up.
+/// threads for either model); rounded up. A split `[material]` takes the same element-by-element
+/// path and is priced alike.
 const MAPPED_SECONDS_PER_ELEMENT_STEP: f64 = 3e-8;
 
 /// Wall time per element and step on 2 cores while the far field's ramps accelerate and its body
@@ -106,7 +107,7 @@ fn elements(scene: &Scene) -> (f64, f64) {
 pub fn estimate(scene: &Scene) -> Estimate {
     let f = &scene.fem;
     let h = f.element_size;
-    let per_element_step = if f.interface_polyline.is_some() {
+    let per_element_step = if f.interface_polyline.is_some() || scene.bottom_material.is_some() {
         MAPPED_SECONDS_PER_ELEMENT_STEP
     } else {
         SECONDS_PER_ELEMENT_STEP
