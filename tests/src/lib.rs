@@ -127,6 +127,28 @@ pub fn worst_energy_residual(out: &fem::RunOutput) -> (f64, f64) {
     (worst, w_final)
 }
 
+/// First time [s] a sampled (t [s], value) history crosses `level` upwards, linearly between the
+/// two samples that bracket it (a wave front reaching a probe).
+pub fn upward_crossing(v: &[(f64, f64)], level: f64) -> f64 {
+    let i = v
+        .windows(2)
+        .position(|w| w[0].1 < level && w[1].1 >= level)
+        .expect("the front reaches the probe");
+    let ((t0, v0), (t1, v1)) = (v[i], v[i + 1]);
+    t0 + (t1 - t0) * (level - v0) / (v1 - v0)
+}
+
+/// Mean of a sampled (t [s], value) history over t ∈ [from, to] [s]; at least 21 samples.
+pub fn window_mean(v: &[(f64, f64)], from: f64, to: f64) -> f64 {
+    let w: Vec<f64> = v
+        .iter()
+        .filter(|s| s.0 >= from && s.0 <= to)
+        .map(|s| s.1)
+        .collect();
+    assert!(w.len() > 20, "window [{from}, {to}] s holds {} samples", w.len());
+    w.iter().sum::<f64>() / w.len() as f64
+}
+
 #[cfg(test)]
 mod tests {
     use super::with_overrides;

@@ -21,7 +21,7 @@
 //!   transit times hold for u_x as for v_x, with the same step as BM.2.
 
 use fem::nalgebra::Vector2;
-use validation::{repo_root, scene_text, with_overrides};
+use validation::{repo_root, scene_text, upward_crossing as crossing, window_mean as mean, with_overrides};
 
 // Claim BM.1. The probes sit at node columns; the scheme is the central difference with lumped
 // masses, whose dispersion at these Courant numbers (c Δt/h = 0.375 soft, 0.5 stiff) leaves a
@@ -71,27 +71,6 @@ fn probe_series(
 ) -> (f64, Vec<(f64, f64)>) {
     let rows: Vec<_> = out.probes.iter().filter(|p| p.probe == k).collect();
     (rows[0].x, rows.iter().map(|p| (p.t, value(p))).collect())
-}
-
-/// First time [s] the value crosses `level` upwards, linearly between samples.
-fn crossing(v: &[(f64, f64)], level: f64) -> f64 {
-    let i = v
-        .windows(2)
-        .position(|w| w[0].1 < level && w[1].1 >= level)
-        .expect("the front reaches the probe");
-    let ((t0, v0), (t1, v1)) = (v[i], v[i + 1]);
-    t0 + (t1 - t0) * (level - v0) / (v1 - v0)
-}
-
-/// Mean of the value over t ∈ [from, to] [s].
-fn mean(v: &[(f64, f64)], from: f64, to: f64) -> f64 {
-    let w: Vec<f64> = v
-        .iter()
-        .filter(|s| s.0 >= from && s.0 <= to)
-        .map(|s| s.1)
-        .collect();
-    assert!(w.len() > 20, "window [{from}, {to}] s holds {} samples", w.len());
-    w.iter().sum::<f64>() / w.len() as f64
 }
 
 #[test]

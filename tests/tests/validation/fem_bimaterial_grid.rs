@@ -12,7 +12,7 @@
 //! - the stable step is that of the faster material: α h/c_d,2 · f(ε_n h/E₂) (paper eq. 12), not
 //!   the top's nor the first material's by accident: the soft one's is 2 times longer.
 
-use validation::{repo_root, scene_text};
+use validation::{repo_root, scene_text, upward_crossing as crossing, window_mean as mean};
 
 // The wave claim's tolerances are those of fem_bimaterial.rs (BM.1), stated there before it ran
 // and kept here before this one ran: the central difference with lumped masses leaves a ringing
@@ -45,27 +45,6 @@ fn scene() -> fem::Scene {
         &repo_root().join("scenes"),
     )
     .unwrap()
-}
-
-/// First time [s] the value crosses `level` upwards, linearly between samples.
-fn crossing(v: &[(f64, f64)], level: f64) -> f64 {
-    let i = v
-        .windows(2)
-        .position(|w| w[0].1 < level && w[1].1 >= level)
-        .expect("the front reaches the probe");
-    let ((t0, v0), (t1, v1)) = (v[i], v[i + 1]);
-    t0 + (t1 - t0) * (level - v0) / (v1 - v0)
-}
-
-/// Mean of the value over t ∈ [from, to] [s].
-fn mean(v: &[(f64, f64)], from: f64, to: f64) -> f64 {
-    let w: Vec<f64> = v
-        .iter()
-        .filter(|s| s.0 >= from && s.0 <= to)
-        .map(|s| s.1)
-        .collect();
-    assert!(w.len() > 20, "window [{from}, {to}] s holds {} samples", w.len());
-    w.iter().sum::<f64>() / w.len() as f64
 }
 
 #[test]

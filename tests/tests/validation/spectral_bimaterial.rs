@@ -17,6 +17,7 @@ use spectral::law::friction::solve_shear;
 use spectral::{Convolution, FaceFields, HalfSpaceParams, HalfSpaces, Operator, Solid};
 
 use crate::spectral_common::{f, run, scene};
+use crate::spectral_radiation::max_rel_dev;
 
 const TOL_ROUNDOFF: f64 = 1e-12; // exact "to round-off", as the single-material radiation test; not tuned
 
@@ -110,13 +111,10 @@ fn free_bimaterial_interface_under_shear_step_radiates_each_impedance() {
     let tau0 = s.shear.r#final;
     let (zt, zb) = (s.top().shear_impedance(), s.bottom().shear_impedance());
     let out = run(&s);
-    let dev = |pick: fn(&spectral::FieldRecord) -> f64, exact: f64| {
-        out.fields
-            .iter()
-            .map(|r| (pick(r) - exact).abs() / exact.abs())
-            .fold(0.0, f64::max)
-    };
-    let (dt, db) = (dev(|r| r.vx_top, tau0 / zt), dev(|r| r.vx_bottom, -tau0 / zb));
+    let (dt, db) = (
+        max_rel_dev(&out, |r| r.vx_top, tau0 / zt),
+        max_rel_dev(&out, |r| r.vx_bottom, -tau0 / zb),
+    );
     let t1 = out
         .fields
         .iter()
@@ -147,13 +145,10 @@ fn free_bimaterial_interface_under_tension_step_radiates_each_impedance() {
     let s = with(&base, &split(unit(), stiff()));
     let (zt, zb) = (s.top().normal_impedance(), s.bottom().normal_impedance());
     let out = run(&s);
-    let dev = |pick: fn(&spectral::FieldRecord) -> f64, exact: f64| {
-        out.fields
-            .iter()
-            .map(|r| (pick(r) - exact).abs() / exact.abs())
-            .fold(0.0, f64::max)
-    };
-    let (dt, db) = (dev(|r| r.vy_top, 0.2 / zt), dev(|r| r.vy_bottom, -0.2 / zb));
+    let (dt, db) = (
+        max_rel_dev(&out, |r| r.vy_top, 0.2 / zt),
+        max_rel_dev(&out, |r| r.vy_bottom, -0.2 / zb),
+    );
     println!("tension: Zn+ = {zt:.4}, Zn- = {zb:.4}; rel. dev {dt:.1e} / {db:.1e}");
     assert!(dt <= TOL_ROUNDOFF && db <= TOL_ROUNDOFF);
 }

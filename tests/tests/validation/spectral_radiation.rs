@@ -16,7 +16,12 @@ fn broken() -> (&'static str, Option<toml::Value>) {
 
 const TOL_ROUNDOFF: f64 = 1e-12; // exact "to round-off" (relative to the exact velocity); not tuned
 
-fn max_rel_dev(out: &spectral::RunOutput, pick: impl Fn(&spectral::FieldRecord) -> f64, exact: f64) -> f64 {
+/// Largest relative deviation of `pick` from `exact` over every field record.
+pub fn max_rel_dev(
+    out: &spectral::RunOutput,
+    pick: impl Fn(&spectral::FieldRecord) -> f64,
+    exact: f64,
+) -> f64 {
     out.fields
         .iter()
         .map(|r| (pick(r) - exact).abs() / exact.abs())
