@@ -3,6 +3,7 @@
 //! derived from these typed values (`fem::Scene::with_friction_coeff`, ...), never by rewriting
 //! the TOML text, so errors quote the user's own lines.
 
+use crate::series::Tip;
 use anyhow::{Context, Result, anyhow, bail};
 use preflight::Problem;
 use serde::Deserialize;
@@ -106,7 +107,69 @@ pub struct Case {
     /// Far-field normal stress after its ramp, s_yy [Pa] (negative in compression).
     pub normal_stress: f64,
     /// Two different half-spaces (`[material.top]` and `[material.bottom]`); `None`: one material.
-    pub bimaterial: Option<crate::gate::bimaterial::Pair>,
+    pub bimaterial: Option<Pair>,
+}
+
+/// Wave speeds of one half-space [m/s] and its shear modulus [Pa].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Waves {
+    /// Dilatational speed c_d [m/s].
+    pub cd: f64,
+    /// Shear speed c_s [m/s].
+    pub cs: f64,
+    /// Shear modulus μ [Pa].
+    pub shear_modulus: f64,
+}
+
+/// The two half-spaces of a bimaterial scene and their generalized Rayleigh speed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pair {
+    /// The top half-space (y > 0).
+    pub top: Waves,
+    /// The bottom half-space (y < 0).
+    pub bottom: Waves,
+    /// c_GR [m/s]; `None` when the contrast is past the wave's existence limit.
+    pub generalized_rayleigh: Option<f64>,
+}
+
+impl Pair {
+    /// From the spectral scene's two solids (the FE scene reads the same `[material]` tables).
+    pub fn new(top: spectral::Solid, bottom: spectral::Solid) -> Pair {
+        let waves = |s: spectral::Solid| Waves {
+            cd: s.wave_speeds().cd,
+            cs: s.wave_speeds().cs,
+            shear_modulus: s.shear_modulus(),
+        };
+        let half = |s: spectral::Solid| {
+            crate::theory::bimaterial::HalfSpace::new(s.poisson_ratio, s.shear_modulus(), s.density)
+        };
+        let generalized_rayleigh = match (half(top), half(bottom)) {
+            (Some(a), Some(b)) => crate::theory::bimaterial::generalized_rayleigh_speed(&a, &b),
+            _ => None,
+        };
+        Pair {
+            top: waves(top),
+            bottom: waves(bottom),
+            generalized_rayleigh,
+        }
+    }
+
+    /// The slower shear speed [m/s].
+    pub fn slower_cs(&self) -> f64 {
+        self.top.cs.min(self.bottom.cs)
+    }
+
+    /// The tip that runs in the direction of slip of the more compliant body, the one with the
+    /// lower shear-wave speed, under a far-field shear of sign `shear_sign`: with s_xy > 0 the
+    /// top body slides in +x against the bottom one, so a compliant top makes it the right tip,
+    /// a compliant bottom the left.
+    pub fn positive_tip(&self, shear_sign: f64) -> Tip {
+        let top_compliant = self.top.cs < self.bottom.cs;
+        match (top_compliant, shear_sign > 0.0) {
+            (true, true) | (false, false) => Tip::Right,
+            _ => Tip::Left,
+        }
+    }
 }
 
 impl Case {
@@ -298,7 +361,7 @@ impl Study {
                 .spectral
                 .as_ref()
                 .filter(|s| s.is_split())
-                .map(|s| crate::gate::bimaterial::Pair::new(s.top(), s.bottom())),
+                .map(|s| Pair::new(s.top(), s.bottom())),
         }
     }
 

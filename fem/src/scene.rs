@@ -270,6 +270,11 @@ impl Scene {
         w
     }
 
+    /// Index of the grid's node row on the interface, y = 0, counted from the bottom row [-].
+    pub(crate) fn interface_row(&self) -> usize {
+        (-self.fem.y_range[0] / self.fem.element_size).round() as usize
+    }
+
     /// Whether the bulk has several materials (`[fem.mesh.materials]` or a split `[material]`).
     pub fn has_several_materials(&self) -> bool {
         self.bottom_material.is_some() || self.fem.mesh.as_ref().is_some_and(|m| !m.materials.is_empty())

@@ -434,7 +434,7 @@ mod tests {
     #[test]
     fn a_bimaterial_crack_is_gated_tip_by_tip() {
         let a = 0.125;
-        let pair = crate::gate::bimaterial::Pair::new(
+        let pair = crate::study::Pair::new(
             spectral::Solid {
                 youngs_modulus: 70e6,
                 poisson_ratio: 0.35,

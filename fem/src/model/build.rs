@@ -389,7 +389,7 @@ fn facet_centres(iface: &Option<InterfaceRow>) -> impl Iterator<Item = f64> + '_
 fn grid(scene: &Scene, row_map: Option<&dyn Fn(f64) -> f64>) -> Grid {
     let f = &scene.fem;
     let h = f.element_size;
-    let jc = interface_row(scene);
+    let jc = scene.interface_row();
     let twinned = scene.crack.is_some() || scene.interface.is_some();
     Grid::new(&GridSpec {
         x_range: f.x_range,
@@ -402,11 +402,6 @@ fn grid(scene: &Scene, row_map: Option<&dyn Fn(f64) -> f64>) -> Grid {
     })
 }
 
-/// Node row of the interface (y = 0) on the scene's grid.
-pub(crate) fn interface_row(scene: &Scene) -> usize {
-    (-scene.fem.y_range[0] / scene.fem.element_size).round() as usize
-}
-
 /// With a split `[material]`, the material of each grid element: 0 (`[material.top]`) for the
 /// element rows above the interface row, whose centroids lie above it, 1 (`[material.bottom]`)
 /// below; empty with one material.
@@ -414,7 +409,7 @@ fn grid_element_material(scene: &Scene, grid: &Grid) -> Vec<u8> {
     if scene.bottom_material.is_none() {
         return Vec::new();
     }
-    let jc = interface_row(scene);
+    let jc = scene.interface_row();
     (0..grid.num_elements())
         .map(|e| if e / grid.nx >= jc { 0 } else { 1 })
         .collect()

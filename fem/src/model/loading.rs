@@ -201,7 +201,7 @@ fn impedance(m: &PlaneStrain) -> (f64, f64) {
 /// of the element it bounds (ρc_d on the side's normal, ρc_s along it; `horizontal`: the bottom or
 /// top side, whose normal is y).
 fn split_dashpots(scene: &Scene, grid: &Grid, nodes: &[u32], horizontal: bool) -> Vec<[f64; 3]> {
-    let jc = crate::model::build::interface_row(scene);
+    let jc = scene.interface_row();
     let z = [scene.material, scene.material_below()].map(|m| {
         let (zd, zs) = impedance(&m);
         if horizontal { (zs, zd) } else { (zd, zs) }
