@@ -185,6 +185,20 @@ impl Case {
     }
 }
 
+/// Every problem the harness found in a scene, each with its key and line; displayed as
+/// [`preflight::problems_text`] words them. The error [`Study::from_toml_str_in`] returns when
+/// the scene's values are refused (callers may downcast to it for the keys).
+#[derive(Debug, Clone)]
+pub struct Problems(pub Vec<Problem>);
+
+impl std::fmt::Display for Problems {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&preflight::problems_text(&self.0))
+    }
+}
+
+impl std::error::Error for Problems {}
+
 /// A scene file, read once.
 #[derive(Debug, Clone)]
 pub struct Study {
@@ -294,7 +308,7 @@ impl Study {
             }),
             _ => {
                 preflight::locate(text, &mut problems);
-                Err(anyhow!(preflight::problems_text(&problems)))
+                Err(Problems(problems).into())
             }
         }
     }
