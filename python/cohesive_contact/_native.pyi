@@ -103,8 +103,9 @@ def run(
     progress: ProgressCallback = None,
 ) -> Run:
     """Runs ``model`` ("fem" or "spectral") on ``scene`` from t = 0 to T."""
-def gate(
+def job(
     scene: Scene,
+    job: str,
     *,
     out: Optional[Union[str, os.PathLike]] = None,
     friction_rule: Optional[str] = None,
@@ -112,6 +113,9 @@ def gate(
     max_memory_gib: float = 8.0,
     max_steps: int = 100000000,
     progress: ProgressCallback = None,
-) -> Dict[str, Any]: ...
+    values: Optional[List[int]] = None,
+) -> Dict[str, Any]:
+    """Runs the harness's job ``job`` ("gate", "converged", "penalty", "boundary", "sinusoid",
+    "rough") on ``scene``."""
 def read_csv_folder(folder: Union[str, os.PathLike]) -> Dict[str, Dict[str, np.ndarray]]:
     """Every ``.csv`` file of ``folder`` as ``{file stem: {column: array}}``."""

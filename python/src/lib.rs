@@ -7,7 +7,7 @@
 //! - [`scene`]: `Scene` and its `Table` views, attribute access to every key;
 //! - [`tables`]: a folder of CSV files → `{table: {column: numpy array}}`;
 //! - [`run`]: one model's run with the GIL released, progress and Ctrl-C;
-//! - [`gate`]: the FE-versus-spectral comparison.
+//! - [`gate`]: the harness's jobs, the FE-versus-spectral comparison first.
 
 mod gate;
 mod run;
@@ -51,7 +51,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scene::Table>()?;
     m.add_class::<run::Run>()?;
     m.add_function(wrap_pyfunction!(run::run, m)?)?;
-    m.add_function(wrap_pyfunction!(gate::gate, m)?)?;
+    m.add_function(wrap_pyfunction!(gate::job, m)?)?;
     m.add_function(wrap_pyfunction!(tables::read_csv_folder, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

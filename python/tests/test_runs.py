@@ -13,15 +13,7 @@ import pytest
 
 import cohesive_contact as cc
 
-from conftest import SCENES, binary
-
-
-def same_bits(a: np.ndarray, b: np.ndarray) -> bool:
-    if a.dtype != b.dtype or a.shape != b.shape:
-        return False
-    if a.dtype == np.float64:
-        return bool(np.array_equal(a.view(np.uint64), b.view(np.uint64)))
-    return bool(np.array_equal(a, b))
+from conftest import SCENES, binary, same_bits
 
 
 def test_tables_are_numpy_arrays_of_the_documented_columns(tiny_fem):
