@@ -38,14 +38,15 @@ impl Reporter for Silent {
 
 /// Everything about the runs of a study that can be checked before the first of them starts:
 /// each run's steps and memory against the study's budget (with the run's label, the estimate
-/// and the key to change) and the study's output folder (created and written to). The spectral
-/// kernel fits are computed here too, and kept for the runs.
+/// and the key to change) and the study's output folder (created, written to, and held against
+/// any other run until the returned claim is dropped: keep it until the study's last file is
+/// written). The spectral kernel fits are computed here too, and kept for the runs.
 pub fn preflight(
     study: &Study,
     fem_runs: &[(&str, &fem::Scene)],
     spectral_runs: &[(&str, &spectral::Scene)],
     dir: &Path,
-) -> Result<Plan> {
+) -> Result<(Plan, preflight::paths::Claim)> {
     let mut problems = Vec::new();
     let mut estimates = Vec::new();
     for (label, scene) in fem_runs {
@@ -65,15 +66,19 @@ pub fn preflight(
     if !problems.is_empty() {
         anyhow::bail!("{}", problems.join("\n"));
     }
-    preflight::paths::claim(dir, "compare").map_err(|e| anyhow::anyhow!(e))?;
-    Ok(Plan {
+    let claim = preflight::paths::claim(dir, "compare").map_err(|e| anyhow::anyhow!(e))?;
+    if let Some(note) = claim.taken_over() {
+        eprintln!("warning: {note}");
+    }
+    let plan = Plan {
         runs: estimates.len(),
         steps: estimates.iter().map(|(_, e)| e.steps).sum(),
         seconds: estimates.iter().map(|(_, e)| e.seconds).sum(),
         largest_bytes: estimates.iter().map(|(_, e)| e.bytes()).max().unwrap_or(0),
         longest_seconds: estimates.iter().map(|(_, e)| e.seconds).fold(0.0, f64::max),
         lanes: crate::concurrent::Lanes::new(1, rayon::current_num_threads(), Some(1)),
-    })
+    };
+    Ok((plan, claim))
 }
 
 /// Wall time of a run on one core over its time on two [-]: 1.45 for the FE centre crack at

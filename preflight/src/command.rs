@@ -19,6 +19,8 @@ pub struct Prepared<S> {
     pub out_dir: PathBuf,
     /// How many files of an earlier run were removed from it.
     pub removed: usize,
+    /// The folder, held for this run: keep it until the output is written.
+    pub claim: crate::paths::Claim,
 }
 
 impl<S> Prepared<S> {
@@ -33,6 +35,9 @@ impl<S> Prepared<S> {
             self.out_dir.display(),
             crate::paths::removed_note(self.removed)
         );
+        if let Some(note) = self.claim.taken_over() {
+            eprintln!("warning: {note}");
+        }
     }
 }
 
@@ -100,8 +105,8 @@ impl Error for SetUpError {
 /// Everything a command checks before its run, in this order, stopping at the first refusal:
 /// reads `scene_path`, validates it, chooses the output folder (`--out` or
 /// `out/<model>-<scene name>`), checks the estimate against the budget, claims the folder for
-/// `model` and removes an earlier run's files from it (one run per folder: they would stand
-/// beside this one's). The model's own steps: `read` the scene from its text and the scene file's
+/// `model` (locked against any other run until [`Prepared::claim`] is dropped) and removes an
+/// earlier run's files from it (one run per folder: they would stand beside this one's). The model's own steps: `read` the scene from its text and the scene file's
 /// folder (where relative paths in it start), `estimate` the run, `clear_previous` removes an
 /// earlier run's files from a folder and says how many.
 pub fn prepare<S, ReadErr, EstimateErr>(
@@ -136,7 +141,7 @@ where
             path: scene_path.to_path_buf(),
             message,
         })?;
-    crate::paths::claim(&out_dir, model).map_err(SetUpError::Refused)?;
+    let claim = crate::paths::claim(&out_dir, model).map_err(SetUpError::Refused)?;
     let removed = clear_previous(&out_dir).map_err(|source| SetUpError::Clear {
         dir: out_dir.clone(),
         source,
@@ -146,6 +151,7 @@ where
         estimate,
         out_dir,
         removed,
+        claim,
     })
 }
 

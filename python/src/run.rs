@@ -70,7 +70,8 @@ impl Run {
     /// Writes the run's CSV files into ``folder``, as the command line does (the same bytes);
     /// returns their paths. The folder is claimed for the model as the command line claims it.
     fn write_csv(&self, py: Python<'_>, folder: PathBuf) -> PyResult<Vec<PathBuf>> {
-        preflight::paths::claim(&folder, self.model()).map_err(PyValueError::new_err)?;
+        // held while the files are written: no other run writes into the folder meanwhile
+        let _claim = preflight::paths::claim(&folder, self.model()).map_err(PyValueError::new_err)?;
         py.detach(|| self.write(&folder))
             .map_err(|e| pyo3::exceptions::PyOSError::new_err(format!("writing {}: {e}", folder.display())))
     }

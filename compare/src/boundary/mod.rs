@@ -92,7 +92,9 @@ pub fn run_study(study: &Study, boxes: &[u32], dir: &Path, rep: &dyn Reporter) -
         .zip(&plans)
         .flat_map(|((_, ls), (_, _, fems))| ls.iter().zip(fems).map(|(l, (_, _, s))| (l.as_str(), s)))
         .collect();
-    rep.planned(&preflight(study, &fems, &spectrals, dir)?);
+    // the folder stays locked against other runs until the study returns, its files written
+    let (plan, _held) = preflight(study, &fems, &spectrals, dir)?;
+    rep.planned(&plan);
     let case = study.case();
     let scales = CaseScales {
         half_length: case.half_length,

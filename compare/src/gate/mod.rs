@@ -151,7 +151,9 @@ pub fn run_gate(study: &Study, tol: &Tolerances, dir: &Path, rep: &dyn Reporter)
         rayon::current_num_threads(),
         study.concurrent_runs,
     );
-    rep.planned(&preflight(study, &fems, &spectrals, dir)?.with_lanes(lanes));
+    // the folder stays locked against other runs until the study returns, its files written
+    let (plan, _held) = preflight(study, &fems, &spectrals, dir)?;
+    rep.planned(&plan.with_lanes(lanes));
     let case = study.case();
     let mu_detail = plans.iter().map(|p| p.mu).fold(f64::MIN, f64::max);
     let tasks = run_tasks(&plans, dir, rep);

@@ -64,7 +64,9 @@ pub fn run_study(study: &Study, factors: &[u32], dir: &Path, rep: &dyn Reporter)
         .map(|(l, (_, s))| (l.as_str(), s))
         .collect();
     let lanes = Lanes::new(plans.len(), rayon::current_num_threads(), study.concurrent_runs);
-    rep.planned(&preflight(study, &fems, &[], dir)?.with_lanes(lanes));
+    // the folder stays locked against other runs until the study returns, its files written
+    let (plan, _held) = preflight(study, &fems, &[], dir)?;
+    rep.planned(&plan.with_lanes(lanes));
     let runs: Vec<_> = plans
         .iter()
         .map(|(factor, scene)| {

@@ -234,7 +234,8 @@ pub fn run(options: &Options, dir: &Path, rep: &dyn Reporter) -> Result<SuiteRep
         budget: options.budget,
         ..planned[0].study.clone()
     };
-    let plan = crate::runner::preflight(&check, &fems, &spectrals, dir)?;
+    // the folder stays locked against other runs until the study returns, its files written
+    let (plan, _held) = crate::runner::preflight(&check, &fems, &spectrals, dir)?;
     let lanes = Lanes::new(
         2 * planned.len(),
         rayon::current_num_threads(),

@@ -77,9 +77,9 @@ pub fn emit(study: &Study, text: &str, scene: &Path, sizes: &[f64], dir: &Path) 
     let points = super::plan(study, &super::sizes(sizes)?)?;
     let exe = std::env::current_exe().context("locating the compare executable")?;
     let target = scale_out::check(dir, &exe)?;
-    // `--collect` writes its results into the same folder
-    preflight::paths::claim(&target.dir, "compare").map_err(|e| anyhow!(e))?;
-    let plan = super::preflight(study, &points, &target.dir)?;
+    // claimed for `compare` (`--collect` writes its results into the same folder), and held
+    // until the jobs are written; the jobs themselves write only their own files in it
+    let (plan, _held) = super::preflight(study, &points, &target.dir)?;
     println!("{plan}");
     let files = scale_out::emit(&target, study, text, scene, &points, &plan)?;
     let d = target.dir.display();
@@ -128,7 +128,7 @@ pub fn collect(dir: &Path, out: Option<&Path>) -> Result<bool> {
         None => dir,
     };
     let (manifest, measured) = scale_out::collect(dir)?;
-    preflight::paths::claim(out, "compare").map_err(|e| anyhow!(e))?;
+    let _held = preflight::paths::claim(out, "compare").map_err(|e| anyhow!(e))?;
     finish(&measured, manifest.duration, out)
 }
 
@@ -136,7 +136,9 @@ pub fn collect(dir: &Path, out: Option<&Path>) -> Result<bool> {
 /// a progress bar over the points; then the table, `sweep.csv` and the figure ([`finish`]).
 pub fn run(study: &Study, scene: &Path, sizes: &[f64], dir: &Path) -> Result<bool> {
     let points = super::plan(study, &super::sizes(sizes)?)?;
-    println!("{}", super::preflight(study, &points, dir)?);
+    // held until sweep.csv is written; the children write their own files in it, unlocked
+    let (plan, _held) = super::preflight(study, &points, dir)?;
+    println!("{plan}");
     let exe = std::env::current_exe().context("locating the compare executable")?;
     let bar = ProgressBar::new(points.len() as u64).with_style(
         ProgressStyle::with_template("sweep [{bar:40}] {pos}/{len} points ({elapsed}) {msg}")

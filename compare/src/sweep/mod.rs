@@ -156,7 +156,7 @@ pub fn preflight(
     study: &Study,
     plan: &[(Model, f64, Study)],
     dir: &std::path::Path,
-) -> Result<crate::runner::Plan> {
+) -> Result<(crate::runner::Plan, preflight::paths::Claim)> {
     let labels: Vec<String> = plan.iter().map(|(m, h, _)| point_label(*m, *h)).collect();
     let spectral_scenes = plan
         .iter()

@@ -58,6 +58,8 @@ fn run() -> anyhow::Result<()> {
         scene,
         estimate,
         out_dir,
+        // the folder stays locked against other runs until this function returns, output written
+        claim: _held,
         ..
     } = prepared;
     announce_fields(&scene, &out_dir);

@@ -50,6 +50,8 @@ fn run() -> anyhow::Result<()> {
         scene,
         estimate,
         out_dir,
+        // the folder stays locked against other runs until this function returns, output written
+        claim: _held,
         ..
     } = prepared;
     let bar = ProgressBar::new(estimate.steps);
