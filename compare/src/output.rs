@@ -10,13 +10,17 @@ pub fn mu_tag(mu: f64) -> String {
     format!("{mu}")
 }
 
-/// Writes `rows` as CSV with a header from the record's field names.
+/// Writes `rows` as CSV with a header from the record's field names, whole or not at all
+/// (`preflight::save`): the error names the file.
 pub fn write_rows<R: Serialize>(path: &Path, rows: &[R]) -> Result<PathBuf> {
-    let mut w = csv::Writer::from_path(path).with_context(|| format!("creating {}", path.display()))?;
-    for r in rows {
-        w.serialize(r)?;
-    }
-    w.flush().with_context(|| format!("writing {}", path.display()))?;
+    preflight::save::atomically(path, |file| {
+        let mut w = csv::Writer::from_writer(file);
+        for r in rows {
+            w.serialize(r).map_err(std::io::Error::other)?;
+        }
+        w.flush()
+    })
+    .context("writing a result table")?;
     Ok(path.to_path_buf())
 }
 

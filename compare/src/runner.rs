@@ -249,6 +249,8 @@ impl Model for fem::Scene {
     }
 
     fn write(out: &fem::RunOutput, dir: &Path) -> std::io::Result<Vec<std::path::PathBuf>> {
+        // a run's subfolder of the study's folder: never a link to elsewhere
+        preflight::save::not_a_link(dir)?;
         // the folder holds this run's files only (an earlier run's would stand beside them)
         fem::output::clear_previous(dir)?;
         fem::write_csv(out, dir)
@@ -281,6 +283,7 @@ impl Model for spectral::Scene {
     }
 
     fn write(out: &spectral::RunOutput, dir: &Path) -> std::io::Result<Vec<std::path::PathBuf>> {
+        preflight::save::not_a_link(dir)?;
         spectral::output::clear_previous(dir)?;
         spectral::write_csv(out, dir)
     }

@@ -14,11 +14,14 @@ fn write<T: Serialize>(dir: &Path, name: &str, rows: &[T], out: &mut Vec<PathBuf
         "{name} missing from CSV_FILES (clear_previous)"
     );
     let path = dir.join(name);
-    let mut w = csv::Writer::from_path(&path).map_err(io::Error::other)?;
-    for r in rows {
-        w.serialize(r).map_err(io::Error::other)?;
-    }
-    w.flush()?;
+    // whole or not at all, the error naming the file (docs/outputs.md)
+    preflight::save::atomically(&path, |file| {
+        let mut w = csv::Writer::from_writer(file);
+        for r in rows {
+            w.serialize(r).map_err(io::Error::other)?;
+        }
+        w.flush()
+    })?;
     out.push(path);
     Ok(())
 }
@@ -73,9 +76,13 @@ pub const CSV_FILES: [&str; 16] = [
 /// the snapshots in `fields/`), so that the folder holds one run's output only: a scene that no
 /// longer writes a file (no pre-crack, no friction, another snapshot interval) would otherwise
 /// leave the old one beside the new ones. Returns the number of files removed. Only for a
-/// folder claimed by this model (`preflight::paths::claim`): nothing else is touched.
+/// folder claimed by this model (`preflight::paths::claim`): nothing else is touched, and a
+/// `fields/` that is a symbolic link is refused, not followed.
 pub fn clear_previous(dir: &Path) -> io::Result<usize> {
-    let mut snapshots: Vec<PathBuf> = std::fs::read_dir(dir.join(paraview::FIELDS_DIR))
+    let fields = dir.join(paraview::FIELDS_DIR);
+    // a linked fields/ would have the run remove files outside its folder
+    preflight::save::not_a_link(&fields)?;
+    let mut snapshots: Vec<PathBuf> = std::fs::read_dir(&fields)
         .map(|entries| {
             entries
                 .filter_map(|e| e.ok().map(|e| e.path()))
@@ -182,5 +189,45 @@ mod tests {
         assert_eq!(clear_previous(&dir).unwrap(), 0);
         std::fs::remove_dir_all(&dir).unwrap();
         assert_eq!(clear_previous(&dir).unwrap(), 0);
+    }
+
+    /// A `fields/` that is a symbolic link is not followed: the snapshots it points at, outside
+    /// the output folder, are not the run's to remove.
+    #[test]
+    fn a_linked_fields_folder_is_refused_and_its_target_untouched() {
+        let root = std::env::temp_dir().join(format!("fem-linked-fields-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&root);
+        let (dir, elsewhere) = (root.join("out"), root.join("elsewhere"));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::create_dir_all(&elsewhere).unwrap();
+        std::fs::write(elsewhere.join("bulk_000000.vtu"), "theirs").unwrap();
+        std::os::unix::fs::symlink(&elsewhere, dir.join(paraview::FIELDS_DIR)).unwrap();
+        let e = clear_previous(&dir).unwrap_err().to_string();
+        assert!(e.contains("symbolic link") && e.contains("fields"), "{e}");
+        assert!(
+            elsewhere.join("bulk_000000.vtu").exists(),
+            "removed through the link"
+        );
+        let e = paraview::ParaviewWriter::new(&dir, 10).unwrap_err().to_string();
+        assert!(e.contains("symbolic link") && e.contains("fields"), "{e}");
+        std::fs::remove_dir_all(&root).unwrap();
+    }
+
+    /// A file that cannot be written is named in the error, and the file it would have replaced
+    /// is left whole.
+    #[test]
+    fn a_failed_write_names_the_file_and_keeps_the_previous_one() {
+        let dir = std::env::temp_dir().join(format!("fem-write-fails-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(dir.join("run.csv")).unwrap();
+        std::fs::write(dir.join("energy.csv"), "an earlier run's whole file").unwrap();
+        let e = write_csv(&RunOutput::default(), &dir).unwrap_err().to_string();
+        assert!(e.contains(&dir.join("run.csv").display().to_string()), "{e}");
+        let names: Vec<String> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert!(names.iter().all(|n| !n.contains(".tmp")), "{names:?}");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -16,7 +16,11 @@ fn a_second_run_into_a_busy_folder_is_refused_naming_the_first() {
         c.arg(&scene).arg("--out").arg(&dir);
         c
     };
-    let mut first = fem().stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    let mut first = fem()
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
     let mut line = String::new();
     BufReader::new(first.stdout.as_mut().unwrap())
         .read_line(&mut line)

@@ -5,6 +5,7 @@
 //! - [`budget`]: memory and step estimates against a budget, refused with the key to change;
 //! - [`paths`]: output folders that stay where they are asked to be, and are writable before any
 //!   work;
+//! - [`save`]: files written whole or not at all, never through a symbolic link;
 //! - [`ended`]: how a run ended (reached T, unstable, stopped on request), in one form for both
 //!   models' command lines and the harness;
 //! - [`stop`], [`options`] and [`command`] (feature `cli`): Ctrl-C and SIGTERM stop a run at its
@@ -20,6 +21,7 @@ pub mod file;
 #[cfg(feature = "cli")]
 pub mod options;
 pub mod paths;
+pub mod save;
 #[cfg(feature = "cli")]
 pub mod stop;
 #[cfg(feature = "testing")]

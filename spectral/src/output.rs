@@ -109,11 +109,14 @@ pub struct RunOutput {
 }
 
 fn write<T: Serialize>(path: PathBuf, records: &[T]) -> std::io::Result<PathBuf> {
-    let mut w = csv::Writer::from_path(&path)?;
-    for r in records {
-        w.serialize(r)?;
-    }
-    w.flush()?;
+    // whole or not at all, the error naming the file (docs/outputs.md)
+    preflight::save::atomically(&path, |file| {
+        let mut w = csv::Writer::from_writer(file);
+        for r in records {
+            w.serialize(r).map_err(std::io::Error::other)?;
+        }
+        w.flush()
+    })?;
     Ok(path)
 }
 

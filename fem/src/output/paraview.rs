@@ -9,7 +9,7 @@
 
 use crate::records::fields::{CellShape, FieldArray, FieldPiece, FieldSink, FieldSnapshot, FieldValues};
 use std::fmt::Write as _;
-use std::io::{self, BufWriter, Write};
+use std::io;
 use std::path::{Path, PathBuf};
 use vtkio::model::{
     Attribute, Attributes, ByteOrder, CellType, Cells, DataArray, DataSet, ElementType, IOBuffer, Piece,
@@ -57,9 +57,10 @@ pub struct ParaviewWriter {
 impl ParaviewWriter {
     /// A writer into `dir` for a run of `steps` steps (the step numbers in the file names are
     /// zero-padded to its width, at least 6 digits, so that the files sort in time order).
-    /// Creates `dir/fields`: a folder that cannot be created is refused before the run.
+    /// Creates `dir/fields`: a folder that cannot be created, or a `fields` that is a symbolic
+    /// link (the snapshots would land outside the output folder), is refused before the run.
     pub fn new(dir: &Path, steps: u64) -> io::Result<ParaviewWriter> {
-        std::fs::create_dir_all(dir.join(FIELDS_DIR))?;
+        preflight::save::subfolder(dir, FIELDS_DIR)?;
         Ok(ParaviewWriter {
             dir: dir.to_path_buf(),
             digits: steps.to_string().len().max(6),
@@ -90,7 +91,7 @@ impl ParaviewWriter {
         }
         text.push_str("  </Collection>\n</VTKFile>\n");
         let path = self.dir.join(COLLECTION);
-        std::fs::write(&path, text)?;
+        preflight::save::bytes(&path, text.as_bytes())?;
         Ok(path)
     }
 }
@@ -156,10 +157,8 @@ pub fn write_vtu(path: &Path, piece: FieldPiece) -> io::Result<()> {
             },
         }),
     };
-    let mut w = BufWriter::new(std::fs::File::create(path)?);
-    vtk.write_xml(&mut w)
-        .map_err(|e| io::Error::other(format!("{}: {e}", path.display())))?;
-    w.flush()
+    // whole or not at all, the error naming the file
+    preflight::save::atomically(path, |w| vtk.write_xml(w).map_err(io::Error::other))
 }
 
 fn bad(path: &Path, what: impl std::fmt::Display) -> io::Error {
