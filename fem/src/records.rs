@@ -326,6 +326,11 @@ pub struct RunRecord {
     /// Contacts lost over the run because a penetration exceeded the detection distance
     /// (`fem.max_gap`) [-]; anything but 0 deserves a larger `max_gap` or a stiffer penalty.
     pub dropped_contacts: u64,
+    /// How the run ended: `finished` (it reached T), `interrupted`, `unstable` or
+    /// `output_failed`; every file of a run that did not finish ends at `last_step`.
+    pub status: preflight::Status,
+    /// Last step computed [-].
+    pub last_step: u64,
 }
 
 /// Everything a run produces.
@@ -335,6 +340,8 @@ pub struct RunOutput {
     pub time_step: f64,
     /// Steps done.
     pub steps: u64,
+    /// How the run ended (set when it ends; `interrupted` until then).
+    pub status: preflight::Status,
     /// Bulk elements of the mesh.
     pub elements: usize,
     /// `hybrid` or `standard`.
@@ -420,6 +427,8 @@ impl RunOutput {
                 f64::NAN
             },
             dropped_contacts: self.contact.last().map_or(0, |c| c.dropped_contacts_total),
+            status: self.status,
+            last_step: self.steps,
         }
     }
 }

@@ -47,4 +47,51 @@ fn a_terminated_run_keeps_parseable_output_and_says_so() {
         "the records end before T = 0.02 s: {last}"
     );
     assert!(t.windows(2).all(|w| w[1] > w[0]));
+    // run.csv says the run is partial, and where it stopped
+    let mut rd = csv::Reader::from_path(dir.join("run.csv")).unwrap();
+    let header = rd.headers().unwrap().clone();
+    let row = rd.records().next().unwrap().unwrap();
+    let column = |name: &str| {
+        &row[header
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("no {name}"))]
+    };
+    assert_eq!(column("status"), "interrupted");
+    assert!(column("last_step").parse::<u64>().unwrap() > 0);
+}
+
+/// GNU `timeout`, and any wrapper that signals the whole process group, delivers two signals at
+/// once: that is one request to stop, not "quit now"; the partial output is written.
+#[test]
+fn two_signals_at_once_stop_the_run_and_keep_its_output() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("fem-interrupt-twice");
+    let _ = std::fs::remove_dir_all(&dir);
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/center-crack.toml");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_fem"))
+        .arg(&scene)
+        .arg("--out")
+        .arg(&dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first = String::new();
+    BufReader::new(child.stdout.as_mut().unwrap())
+        .read_line(&mut first)
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1000));
+    let pid = libc::pid_t::try_from(child.id()).unwrap();
+    // SAFETY: kill(2) with a valid signal number on our own child's pid has no memory effects.
+    assert_eq!(unsafe { libc::kill(pid, libc::SIGTERM) }, 0);
+    // SAFETY: as above.
+    assert_eq!(unsafe { libc::kill(pid, libc::SIGINT) }, 0);
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        stderr.contains("stopped on request") && stderr.contains("the output up to there is in"),
+        "{stderr}"
+    );
+    assert!(dir.join("tips.csv").exists());
 }

@@ -2,6 +2,23 @@
 //! harness read: it reached T, or it stopped before (unstable, stopped on request, an output not
 //! written) with the records computed up to there.
 
+/// How a run ended, as its output files say it (`status` in the FE model's `run.csv` and the
+/// spectral model's `stats.csv`): a reader tells a partial run from a finished one by it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Status {
+    /// It reached T.
+    Finished,
+    /// Stopped on request (Ctrl-C, SIGTERM) before T; also what a run's records say until the
+    /// run ends, so that records of a run that never said how it ended never pass for whole.
+    #[default]
+    Interrupted,
+    /// A non-finite or runaway value appeared.
+    Unstable,
+    /// An output written during the run (a field snapshot) failed.
+    OutputFailed,
+}
+
 /// How a run that started ended. Every way but `Finished` keeps the records up to the last step
 /// computed, so that the caller can write them and say where they went.
 #[derive(Debug, Clone, PartialEq)]
@@ -43,6 +60,16 @@ pub enum RunEnded<O> {
 }
 
 impl<O> RunEnded<O> {
+    /// The status its files record.
+    pub fn status(&self) -> Status {
+        match self {
+            RunEnded::Finished(_) => Status::Finished,
+            RunEnded::Unstable { .. } => Status::Unstable,
+            RunEnded::Interrupted { .. } => Status::Interrupted,
+            RunEnded::OutputFailed { .. } => Status::OutputFailed,
+        }
+    }
+
     /// The records: complete when the run finished, up to where it stopped otherwise.
     pub fn output(&self) -> &O {
         match self {

@@ -28,5 +28,5 @@ pub mod stop;
 pub mod testing;
 
 pub use budget::{Budget, Estimate, Part};
-pub use ended::RunEnded;
+pub use ended::{RunEnded, Status};
 pub use file::{Problem, Refused, SceneErrorKind, line_of, locate, parse, problems_text, read, unknown_keys};

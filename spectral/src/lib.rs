@@ -102,6 +102,8 @@ pub fn run_with_progress(
             bytes_per_step: conv.bytes_per_step,
             exp_terms: conv.exp_terms,
             fit_error: conv.fit_error,
+            status: preflight::Status::Interrupted,
+            last_step: 0,
         },
     };
     let (mut next_contact, mut next_field) = (0u64, 0u64);
@@ -123,6 +125,7 @@ pub fn run_with_progress(
                     return Some((n, t, Some(m)));
                 }
                 out.stats.steps = n + 1;
+                out.stats.last_step = n;
                 out.tips.push(diag::tips(&model, &st, t));
                 if t >= next_contact as f64 * scene.output_interval - 1e-9 * dt {
                     out.contact.push(diag::contact_means(&model, &st, t));
@@ -141,6 +144,7 @@ pub fn run_with_progress(
             None
         });
         if let Some((n, t, None)) = failed {
+            out.stats.status = preflight::Status::Interrupted;
             return Err(RunError::Interrupted {
                 step: n.saturating_sub(1),
                 time_s: (t - dt).max(0.0),
@@ -148,6 +152,7 @@ pub fn run_with_progress(
             });
         }
         if let Some((n, t, Some(m))) = failed {
+            out.stats.status = preflight::Status::Unstable;
             return Err(RunError::Unstable {
                 step: n,
                 time_s: t,
@@ -162,5 +167,6 @@ pub fn run_with_progress(
         progress(end, total);
     }
     progress(total, total);
+    out.stats.status = preflight::Status::Finished;
     Ok(out)
 }

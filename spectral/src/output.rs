@@ -89,6 +89,11 @@ pub struct RunStats {
     pub exp_terms: u64,
     /// Fast path kernel-fit max error relative to max|K| [-].
     pub fit_error: f64,
+    /// How the run ended: `finished` (it reached T), `interrupted` or `unstable`; every file of
+    /// a run that did not finish ends at `last_step`.
+    pub status: preflight::Status,
+    /// Last step solved [-].
+    pub last_step: u64,
 }
 
 /// Everything a run produces.

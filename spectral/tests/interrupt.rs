@@ -31,4 +31,15 @@ fn a_stopped_run_returns_its_records_up_to_the_stop() {
     );
     assert!((partial.tips.last().unwrap().t - time_s).abs() < 1e-9 * scene.duration());
     assert!(time_s < scene.duration());
+    // stats.csv says the run is partial, and its last step
+    assert_eq!(partial.stats.status, preflight::Status::Interrupted);
+    assert_eq!(partial.stats.last_step, step);
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("spectral-interrupt");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    spectral::write_csv(&partial, &dir).unwrap();
+    let stats = std::fs::read_to_string(dir.join("stats.csv")).unwrap();
+    let (header, row) = stats.split_once('\n').unwrap();
+    assert!(header.ends_with(",status,last_step"), "{header}");
+    assert!(row.trim_end().ends_with(&format!(",interrupted,{step}")), "{row}");
 }

@@ -129,6 +129,7 @@ pub fn run_with_fields(
         if let Some(Ok(())) = failed {
             finish(&model, &state, &ws, &mut out, &mut snapshots);
             if let Some(e) = snapshots.error() {
+                out.status = preflight::Status::OutputFailed;
                 return Err(RunError::FieldOutput {
                     step: state.step,
                     time_s: state.t,
@@ -136,6 +137,7 @@ pub fn run_with_fields(
                     partial: Box::new(out),
                 });
             }
+            out.status = preflight::Status::Interrupted;
             return Err(RunError::Interrupted {
                 step: state.step,
                 time_s: state.t,
@@ -146,6 +148,7 @@ pub fn run_with_fields(
             let x = model.bulk.x0[b.node];
             let v = state.v[b.node];
             finish(&model, &state, &ws, &mut out, &mut snapshots);
+            out.status = preflight::Status::Unstable;
             return Err(RunError::Unstable {
                 step: state.step,
                 time_s: state.t,
@@ -161,13 +164,19 @@ pub fn run_with_fields(
     }
     finish(&model, &state, &ws, &mut out, &mut snapshots);
     match snapshots.error() {
-        Some(e) => Err(RunError::FieldOutput {
-            step: state.step,
-            time_s: state.t,
-            message: e.to_string(),
-            partial: Box::new(out),
-        }),
-        None => Ok(out),
+        Some(e) => {
+            out.status = preflight::Status::OutputFailed;
+            Err(RunError::FieldOutput {
+                step: state.step,
+                time_s: state.t,
+                message: e.to_string(),
+                partial: Box::new(out),
+            })
+        }
+        None => {
+            out.status = preflight::Status::Finished;
+            Ok(out)
+        }
     }
 }
 
