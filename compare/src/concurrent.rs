@@ -101,6 +101,33 @@ pub fn run_all<'a, T: Send>(tasks: Vec<Task<'a, T>>, lanes: Lanes) -> Result<Vec
         .collect())
 }
 
+/// The results of [`run_all`], in task order, or one error naming every run that failed: runs
+/// side by side stopped by one Ctrl-C or SIGTERM each say where their partial output went, and
+/// every one of them is named, not the first only. A single failure is returned as it is.
+pub fn all_ok<T>(results: Vec<Option<Result<T>>>) -> Result<Vec<T>> {
+    let mut done = Vec::with_capacity(results.len());
+    let mut failed = Vec::new();
+    let mut skipped = false;
+    for r in results {
+        match r {
+            Some(Ok(v)) => done.push(v),
+            Some(Err(e)) => failed.push(e),
+            None => skipped = true,
+        }
+    }
+    match failed.len() {
+        0 if skipped => Err(anyhow::anyhow!(
+            "invariant: a run is skipped only after an earlier one failed"
+        )),
+        0 => Ok(done),
+        1 => Err(failed.remove(0)),
+        n => {
+            let each: Vec<String> = failed.iter().map(|e| format!("{e:#}")).collect();
+            Err(anyhow::anyhow!("{n} runs ended early:\n{}", each.join("\n")))
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -143,5 +170,22 @@ mod tests {
             assert!(got[0].as_ref().unwrap().is_err());
             assert!(got.iter().filter(|r| r.is_none()).count() >= 20 - (lanes.lanes - 1));
         }
+    }
+
+    /// Every failure is named, in task order.
+    #[test]
+    fn all_failures_are_named() {
+        let results: Vec<Option<Result<u8>>> = vec![
+            Some(Ok(1)),
+            Some(Err(anyhow::anyhow!("FE μ = 0: stopped; output in a"))),
+            Some(Err(anyhow::anyhow!("FE μ = 0.3: stopped; output in b"))),
+            None,
+        ];
+        let e = all_ok(results).unwrap_err().to_string();
+        assert!(
+            e.starts_with("2 runs ended early") && e.contains("in a") && e.contains("in b"),
+            "{e}"
+        );
+        assert_eq!(all_ok(vec![Some(Ok(1)), Some(Ok(2))]).unwrap(), vec![1, 2]);
     }
 }

@@ -301,7 +301,7 @@ fn real_main() -> Result<bool> {
         }
         Some(Job::Sweep { sizes, emit, .. }) => match emit {
             Some(dir) => sweep::cli::emit(&study, &text, &scene_path, &sizes, &dir),
-            None => sweep::cli::run(&study, &scene_path, &sizes, &out("-sweep")),
+            None => sweep::cli::run(&study, &scene_path, &sizes, &out("-sweep"), bars.1),
         },
         Some(Job::Boundary { boxes }) => {
             let dir = out("-boundary");

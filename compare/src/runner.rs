@@ -372,12 +372,7 @@ pub fn run_fems(
             }) as crate::concurrent::Task<Finished<fem::RunOutput>>
         })
         .collect();
-    crate::concurrent::run_all(tasks, lanes)?
-        .into_iter()
-        .map(|r| {
-            r.ok_or_else(|| anyhow::anyhow!("invariant: a run is skipped only after an earlier one failed"))?
-        })
-        .collect()
+    crate::concurrent::all_ok(crate::concurrent::run_all(tasks, lanes)?)
 }
 
 /// Runs an FE job ([`run`]).

@@ -42,7 +42,57 @@ fn a_stopped_study_keeps_the_output_of_its_current_run() {
     .unwrap_err()
     .to_string();
     assert!(e.contains("stopped on request") && e.contains("fem_mu0"), "{e}");
+    // runs side by side all stop: the error names every partial output, not the first only
+    if rayon::current_num_threads() > 1 {
+        assert!(e.matches("stopped on request").count() >= 2, "{e}");
+    }
     let tips = std::fs::read_to_string(dir.join("fem_mu0").join("tips.csv")).unwrap();
     assert!(tips.lines().count() > 2, "{tips}");
     assert!(!dir.join("spectral_mu0").exists(), "a run started after the stop");
+}
+
+/// SIGTERM to `compare sweep` alone (as `kill` sends it), not to its point processes: the sweep
+/// forwards it to the point running, which writes its output up to there; the sweep names it
+/// and exits non-zero instead of running every point to the end.
+#[test]
+fn a_terminated_sweep_stops_its_point_and_says_where_its_output_went() {
+    use std::io::{BufRead, BufReader};
+    use std::process::{Command, Stdio};
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("compare-interrupt-sweep");
+    let _ = std::fs::remove_dir_all(&dir);
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/center-crack.toml");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_compare"))
+        .args(["sweep", "--sizes", "1e-3", "--scene"])
+        .arg(&scene)
+        .arg("--out")
+        .arg(&dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // the plan line comes once every check has passed, just before the first point starts
+    let mut plan = String::new();
+    BufReader::new(child.stdout.as_mut().unwrap())
+        .read_line(&mut plan)
+        .unwrap();
+    assert!(plan.contains("runs"), "{plan}");
+    std::thread::sleep(std::time::Duration::from_millis(2000));
+    let pid = libc::pid_t::try_from(child.id()).unwrap();
+    // SAFETY: kill(2) with a valid signal number on our own child's pid has no memory effects.
+    assert_eq!(unsafe { libc::kill(pid, libc::SIGTERM) }, 0);
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "the sweep ran on: {stderr}");
+    assert!(
+        stderr.contains("sweep stopped on request") && stderr.contains("its output up to there is in"),
+        "{stderr}"
+    );
+    let partial: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.join("tips.csv").exists())
+        .collect();
+    assert_eq!(partial.len(), 1, "{partial:?}");
+    assert!(stderr.contains(&partial[0].display().to_string()), "{stderr}");
+    assert!(!dir.join("sweep.csv").exists());
 }

@@ -157,13 +157,7 @@ pub fn run_gate(study: &Study, tol: &Tolerances, dir: &Path, rep: &dyn Reporter)
     let case = study.case();
     let mu_detail = plans.iter().map(|p| p.mu).fold(f64::MIN, f64::max);
     let tasks = run_tasks(&plans, dir, rep);
-    let mut ran = Vec::new();
-    for r in concurrent::run_all(tasks, lanes)? {
-        match r {
-            Some(r) => ran.push(r?),
-            None => unreachable!("invariant: a run is skipped only after an earlier one failed"),
-        }
-    }
+    let ran = concurrent::all_ok(concurrent::run_all(tasks, lanes)?)?;
     let (fems, spectrals) = ran.split_at(plans.len());
     let (mut runs, mut files, mut detail) = (Vec::new(), Vec::new(), None);
     let mut warnings: Vec<String> = study.fem.warnings();

@@ -271,7 +271,10 @@ pub fn run(options: &Options, dir: &Path, rep: &dyn Reporter) -> Result<SuiteRep
             Ok(Ran::Spectral(Box::new(run_spectral(job, rep)?)))
         }));
     }
-    let mut results = run_all(tasks, lanes)?.into_iter();
+    // every run stopped side by side is named, not the first only
+    let mut results = crate::concurrent::all_ok(run_all(tasks, lanes)?)?
+        .into_iter()
+        .map(|r| Some(Ok::<_, anyhow::Error>(r)));
     let n = planned.len();
     let mut fems_out = Vec::new();
     for _ in 0..n {

@@ -134,7 +134,10 @@ pub fn collect(dir: &Path, out: Option<&Path>) -> Result<bool> {
 
 /// The sweep run here (`sweep`): each point in its own child process, one after the other, with
 /// a progress bar over the points; then the table, `sweep.csv` and the figure ([`finish`]).
-pub fn run(study: &Study, scene: &Path, sizes: &[f64], dir: &Path) -> Result<bool> {
+///
+/// `stop` (Ctrl-C, SIGTERM) is forwarded to the point running: it writes its output up to there,
+/// and the sweep ends in an error naming it.
+pub fn run(study: &Study, scene: &Path, sizes: &[f64], dir: &Path, stop: &AtomicBool) -> Result<bool> {
     let points = super::plan(study, &super::sizes(sizes)?)?;
     // held until sweep.csv is written; the children write their own files in it, unlocked
     let (plan, _held) = super::preflight(study, &points, dir)?;
@@ -144,7 +147,7 @@ pub fn run(study: &Study, scene: &Path, sizes: &[f64], dir: &Path) -> Result<boo
         ProgressStyle::with_template("sweep [{bar:40}] {pos}/{len} points ({elapsed}) {msg}")
             .expect("invariant: the template is valid"),
     );
-    let measured = super::run_children(&exe, scene, dir, study.budget, &points, &mut |p| {
+    let measured = super::run_children(&exe, scene, dir, study.budget, &points, stop, &mut |p| {
         bar.set_message(format!(
             "{:?} h = {:.2e} m: {:.1} s",
             p.model, p.spacing, p.wall_s

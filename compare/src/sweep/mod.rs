@@ -287,29 +287,93 @@ pub fn run_children(
     dir: &std::path::Path,
     budget: preflight::Budget,
     plan: &[(Model, f64, Study)],
+    stop: &std::sync::atomic::AtomicBool,
     on_point: &mut dyn FnMut(&Point),
 ) -> Result<Vec<Point>> {
     let mut points = Vec::new();
+    let mut done = Vec::new();
     for &(model, h, _) in plan {
         let label = point_label(model, h);
-        let out = std::process::Command::new(exe)
+        let child = std::process::Command::new(exe)
             .arg("sweep-point")
             .arg("--scene")
             .arg(scene)
             .arg("--out")
             .arg(dir)
             .args(point_args(model, h, budget))
+            .stdout(std::process::Stdio::piped())
             .stderr(std::process::Stdio::inherit())
-            .output()
+            .spawn()
             .with_context(|| format!("starting {}", exe.display()))?;
-        if !out.status.success() {
-            return Err(anyhow!("{label} failed ({})", out.status));
+        let (status, stdout, stopped) =
+            wait_forwarding_stop(child, stop).with_context(|| format!("{label}: waiting for its process"))?;
+        if stopped {
+            return Err(stopped_sweep(&label, &dir.join(point_tag(model, h)), &done));
         }
-        let p = read_point(&out.stdout).with_context(|| format!("{label}: reading its result"))?;
+        if !status.success() {
+            return Err(anyhow!("{label} failed ({status})"));
+        }
+        let p = read_point(&stdout).with_context(|| format!("{label}: reading its result"))?;
+        done.push(dir.join(format!("tips_{}.csv", point_tag(model, h))));
         on_point(&p);
         points.push(p);
     }
     Ok(points)
+}
+
+/// Waits for a sweep point's process; when `stop` is raised (Ctrl-C, SIGTERM to this process
+/// only, as `kill` sends it) the child is sent SIGTERM, so that it stops at its next step and
+/// writes its partial output, rather than running on to T. Returns its exit status, its stdout
+/// and whether the sweep was stopped.
+fn wait_forwarding_stop(
+    mut child: std::process::Child,
+    stop: &std::sync::atomic::AtomicBool,
+) -> Result<(std::process::ExitStatus, Vec<u8>, bool)> {
+    use std::io::Read;
+    let mut pipe = child
+        .stdout
+        .take()
+        .ok_or_else(|| anyhow!("invariant: the child's stdout is piped"))?;
+    // the child's answer is one CSV row: read on a thread so that a full pipe never blocks it
+    let reader = std::thread::spawn(move || {
+        let mut buf = Vec::new();
+        pipe.read_to_end(&mut buf).map(|_| buf)
+    });
+    let mut forwarded = false;
+    let status = loop {
+        if let Some(status) = child.try_wait()? {
+            break status;
+        }
+        if !forwarded && stop.load(std::sync::atomic::Ordering::Relaxed) {
+            let pid = libc::pid_t::try_from(child.id()).context("child process id")?;
+            // SAFETY: kill(2) on our own, not yet reaped child with a valid signal has no
+            // memory effects.
+            unsafe { libc::kill(pid, libc::SIGTERM) };
+            forwarded = true;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    let stdout = reader
+        .join()
+        .map_err(|_| anyhow!("invariant: reading a pipe does not panic"))??;
+    let stopped = forwarded || stop.load(std::sync::atomic::Ordering::Relaxed);
+    Ok((status, stdout, stopped))
+}
+
+/// A sweep stopped on request: the point that was running and where its partial output went,
+/// and the tip files of the points done before it.
+fn stopped_sweep(label: &str, partial: &std::path::Path, done: &[std::path::PathBuf]) -> anyhow::Error {
+    let before = if done.is_empty() {
+        "no point had finished".to_string()
+    } else {
+        let names: Vec<String> = done.iter().map(|p| p.display().to_string()).collect();
+        format!("the points done before it are in {}", names.join(", "))
+    };
+    anyhow!(
+        "sweep stopped on request during {label}; its output up to there is in {}; {before}; \
+         sweep.csv is not written",
+        partial.display()
+    )
 }
 
 /// One point as CSV (header + row): what a point prints on stdout or writes to its result file.
