@@ -29,7 +29,7 @@ pub use problem::{Crack, Loading, Ramp};
 use crate::error::SceneError;
 use crate::law::cohesive::LinearCohesive;
 use crate::law::elastic::{PlaneStrain, WaveSpeeds};
-use checks::{check, keep};
+use checks::{check, collected, keep};
 use raw::{RawRamp, RawScene};
 
 /// A validated scene.
@@ -335,6 +335,9 @@ fn validate(raw: RawScene) -> Result<Scene, SceneError> {
         (Some(_), None) => None,
         (_, c) => Some(c.as_ref().and_then(|c| c.as_ref())),
     };
+    if crack_for_fem.is_none() {
+        fem::check_fem_alone(&raw.fem, t_end, &mut errors);
+    }
     let fem = crack_for_fem.and_then(|c| {
         fem::validate_fem(
             &raw.fem,
@@ -446,15 +449,6 @@ fn cross_checks(scene: &mut Scene, duration: f64, errors: &mut Vec<SceneError>) 
 
 /// One error as it is; several as `Invalid`, in the order found (lines are added by
 /// [`Scene::from_toml_str`], which has the text).
-fn collected(mut errors: Vec<SceneError>) -> SceneError {
-    if errors.len() == 1 {
-        return errors.pop().expect("invariant: one error");
-    }
-    SceneError::Invalid {
-        problems: errors.iter().flat_map(SceneError::problems).collect(),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

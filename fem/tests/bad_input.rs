@@ -109,3 +109,75 @@ fn an_empty_unwritable_or_foreign_output_folder_is_refused_before_any_step() {
     );
     assert!(e.contains("spectral model"), "{e}");
 }
+
+/// Every bad value of every table in one message: two or more per table, in the shared tables and
+/// in `[fem]`, with a refused `[crack]` (whose problems used to hide all of `[fem]`'s) and several
+/// keys of one table (of which only the first used to be reported).
+#[test]
+fn every_bad_value_of_every_table_is_reported_at_once() {
+    let bad = [
+        (
+            "youngs_modulus = 70e6 ",
+            "youngs_modulus = -70e6 ",
+            "material.youngs_modulus",
+        ),
+        ("density = 1230.0 ", "density = -1.0 ", "material.density"),
+        ("sigma_c = 0.4e6 ", "sigma_c = 0.0 ", "interface.sigma_c"),
+        ("delta_c = 1e-4 ", "delta_c = -1e-4 ", "interface.delta_c"),
+        ("kappa = 1.0 ", "kappa = 0.0 ", "interface.kappa"),
+        (
+            "half_length = 0.125 ",
+            "half_length = -0.125 ",
+            "crack.half_length",
+        ),
+        (
+            "friction_coeff = 0.3 ",
+            "friction_coeff = -0.3 ",
+            "friction.friction_coeff",
+        ),
+        (
+            "initial = 0.0, final = -0.05e6",
+            "initial = nan, final = -0.05e6",
+            "loading.normal.initial",
+        ),
+        (
+            "ramp_start = 0.0, ramp_end = 0.02",
+            "ramp_start = 0.0, ramp_end = -1.0",
+            "loading.shear.ramp_end",
+        ),
+        (
+            "element_size = 1e-3 ",
+            "element_size = -1e-3 ",
+            "fem.element_size",
+        ),
+        ("model = \"hybrid\" ", "model = \"hybird\" ", "fem.model"),
+        (
+            "insertion_rule = \"max\" ",
+            "insertion_rule = \"maximum\" ",
+            "fem.insertion_rule",
+        ),
+        ("eps_n = 2.1e10 ", "eps_n = -2.1e10 ", "fem.eps_n"),
+        ("eps_t = 2.1e10 ", "eps_t = -2.1e10 ", "fem.eps_t"),
+        (
+            "output_interval = 2e-5 ",
+            "output_interval = -2e-5 ",
+            "fem.output_interval",
+        ),
+        ("max_gap = 1e-3 ", "max_gap = -1e-3 ", "fem.max_gap"),
+        (
+            "projection_tolerance = 1e-3 ",
+            "projection_tolerance = 0.7 ",
+            "fem.projection_tolerance",
+        ),
+    ];
+    let mut s = text("center-crack");
+    for (from, to, _) in bad {
+        assert!(s.contains(from), "{from}");
+        s = s.replacen(from, to, 1);
+    }
+    let t = trial("all-at-once", &s);
+    let e = t.refused(&mut fem(&t, &[]));
+    let missing: Vec<&str> = bad.iter().map(|b| b.2).filter(|k| !e.contains(k)).collect();
+    assert!(missing.is_empty(), "not reported: {missing:?}\n{e}");
+    assert!(e.contains(&format!("{} problems in the scene", bad.len())), "{e}");
+}
