@@ -267,6 +267,13 @@ impl Scene {
                 b.wave_speeds().cs
             ));
         }
+        if self.fem.output_interval < self.time_step {
+            w.push(format!(
+                "fem.output_interval = {:e} s is below the time step {:e} s: records are taken at \
+                 most once per step, so every step is recorded",
+                self.fem.output_interval, self.time_step
+            ));
+        }
         w
     }
 
@@ -396,6 +403,10 @@ fn validate(raw: RawScene) -> Result<Scene, SceneError> {
     }
 }
 
+/// The most steps a scene may ask for: far beyond any budget (the default is 10⁸), and within
+/// what a step counter and an f64 time hold exactly (2⁵³ ≈ 9e15).
+const MAX_STEPS_EVER: f64 = 1e15;
+
 /// The checks across sections, once each section is valid: zones need an `[interface]`, a penalty
 /// needs ε_n > 0, a requested Δt [s] must be stable (else the step is α/α_max of the limit), and
 /// ParaView's files over the `duration` [s] must stay within their limit.
@@ -437,6 +448,28 @@ fn cross_checks(scene: &mut Scene, duration: f64, errors: &mut Vec<SceneError>) 
         Some(dt) => dt,
         None => limit * scene.fem.time_step_safety / fem::MAX_SAFETY,
     };
+    // a step so small that no run could take T/Δt of them (Δt = 0 under an absurd penalty, or a
+    // count beyond what a step counter holds) is refused here, naming what makes it small, not
+    // later by the budget with advice no run could follow
+    let steps = duration / scene.time_step;
+    if !(scene.time_step > 0.0 && steps <= MAX_STEPS_EVER) {
+        let penalty = scene.fem.eps_n.max(scene.fem.eps_t);
+        let key = match (scene.has_penalty(), scene.fem.eps_t > scene.fem.eps_n) {
+            (true, false) if penalty * scene.fem.min_edge() > scene.material.youngs_modulus => "fem.eps_n",
+            (true, true) if penalty * scene.fem.min_edge() > scene.material.youngs_modulus => "fem.eps_t",
+            _ if scene.fem.requested_time_step.is_some() => "fem.time_step",
+            _ => "fem.element_size",
+        };
+        errors.push(checks::inconsistent(
+            key,
+            format!(
+                "the time step would be {:e} s, {steps:.3e} steps over loading.duration = {duration} s \
+                 (at most {MAX_STEPS_EVER:e}); Δt = α h/c_d · f(β_p) with β_p = max(ε_n, ε_t) h/E \
+                 (docs/fem-model.md §2)",
+                scene.time_step
+            ),
+        ));
+    }
     if let Some(p) = &scene.fem.paraview {
         let pieces = if scene.crack.is_some() || scene.interface.is_some() {
             2
@@ -447,8 +480,6 @@ fn cross_checks(scene: &mut Scene, duration: f64, errors: &mut Vec<SceneError>) 
     }
 }
 
-/// One error as it is; several as `Invalid`, in the order found (lines are added by
-/// [`Scene::from_toml_str`], which has the text).
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -181,3 +181,52 @@ fn every_bad_value_of_every_table_is_reported_at_once() {
     assert!(missing.is_empty(), "not reported: {missing:?}\n{e}");
     assert!(e.contains(&format!("{} problems in the scene", bad.len())), "{e}");
 }
+
+/// A penalty so stiff that the stable step vanishes (Δt = 0 at ε_n = 1e300) is refused naming
+/// the penalty, not passed on to the budget, whose advice (raise --max-steps to 2^64 − 1) would
+/// run NaN steps; a step count is never printed saturated.
+#[test]
+fn a_penalty_that_makes_the_step_vanish_is_refused_naming_it() {
+    let s = text("center-crack").replace("eps_n = 2.1e10 ", "eps_n = 1e300 ");
+    let t = trial("vanishing-step", &s);
+    let e = t.refused(&mut fem(&t, &[]));
+    assert!(
+        e.contains("fem.eps_n") && e.contains("the time step would be 0e0 s"),
+        "{e}"
+    );
+    assert!(
+        !e.contains("18446744073709551615") && !e.contains("--max-steps"),
+        "{e}"
+    );
+}
+
+/// An output interval below the time step silently sampled every step: the run now says so
+/// before it starts (a warning: "every step" is a legitimate wish).
+#[test]
+fn an_output_interval_below_the_step_is_said_to_mean_every_step() {
+    let s = text("tiny-fem-center-crack").replace("output_interval = 1e-5 ", "output_interval = 1e-300 ");
+    let t = trial("tiny-interval", &s);
+    let out = fem(&t, &[]).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("warning: fem.output_interval = 1e-300 s is below the time step")
+            && err.contains("every step is recorded"),
+        "{err}"
+    );
+}
+
+/// A sine whose half-period equals h puts every node column on one of its zeros: the row would
+/// be flat, which is not the interface asked for.
+#[test]
+fn a_sine_sampled_only_at_its_zeros_is_refused() {
+    // h = 1 mm; `from` = 0.125 m lies on a node
+    let s = text("sinusoidal-interface").replace("half_period = 0.0625", "half_period = 0.001");
+    assert!(s.contains("element_size = 1e-3 "), "the test needs h = 1 mm");
+    let t = trial("flat-sine", &s);
+    let e = t.refused(&mut fem(&t, &[]));
+    assert!(
+        e.contains("fem.interface_sine.half_period") && e.contains("every node column falls on a zero"),
+        "{e}"
+    );
+}
