@@ -200,6 +200,21 @@ fn a_block_count_against_its_lines_is_refused_with_both_counts() {
 }
 
 #[test]
+fn an_element_block_count_below_its_lines_is_refused_with_both_counts() {
+    let t = text("rect_tri.msh");
+    let block = line_no(&t, "$Elements", 0) + 2;
+    let f: Vec<&str> = t.lines().nth(block - 1).unwrap().split_whitespace().collect();
+    let n: u64 = f[3].parse().unwrap();
+    let bad = with_line(&t, block, &format!("{} {} {} {}", f[0], f[1], f[2], n - 1));
+    let e = refused(&bad);
+    let want = format!(
+        "$Elements block header at line {block} declares {} elements, found {n}",
+        n - 1
+    );
+    assert!(e.contains(&want), "{e}");
+}
+
+#[test]
 fn a_bad_count_in_a_large_mesh_quotes_no_more_than_a_line() {
     let t = text("center-crack-tri.msh");
     assert!(t.len() > 1 << 20);

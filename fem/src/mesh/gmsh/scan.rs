@@ -366,11 +366,28 @@ fn check_elements(lines: &Lines, start: usize, end: usize) -> Result<(), MeshErr
             lines.numbers::<u64>(section, i, width + 1, "an element: tag and node tags")?;
             i += 1;
         }
+        let extra = (i..end).take_while(|&j| is_element_line(lines, j, width)).count() as u64;
+        if extra > 0 {
+            return Err(mismatch("$Elements block", block_line, "elements", n, n + extra));
+        }
         blocks += 1;
         elements += n;
     }
     counted(section, start + 1, "entity blocks", header[0], blocks)?;
     counted(section, start + 1, "elements", header[1], elements)
+}
+
+/// Whether line `i` is one more element of `width` nodes rather than the next block's header: a
+/// triangle's line has a header's four fields, but its first (the element tag) would be an
+/// entity dimension above 3 — for elements 1 to 3 it is taken as a header, and the totals decide.
+fn is_element_line(lines: &Lines, i: usize, width: usize) -> bool {
+    let fields = lines.fields(i);
+    fields.len() == width + 1
+        && (fields.len() != 4
+            || std::str::from_utf8(fields[0])
+                .ok()
+                .and_then(|f| f.parse::<u64>().ok())
+                > Some(3))
 }
 
 /// Every tag in the header's `range`, non-zero, defined once; `binary` says whether the places
