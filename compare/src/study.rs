@@ -226,7 +226,9 @@ impl Study {
     /// Reads and parses the scene file at `path`, and returns its text too (read once, so the
     /// text is exactly the one the study was parsed from).
     pub fn read(path: &Path) -> Result<(Study, String)> {
-        let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+        let text = preflight::input::Cap::scene()
+            .and_then(|cap| preflight::input::read_text_capped(path, cap))
+            .with_context(|| format!("reading {}", path.display()))?;
         let stem = path
             .file_stem()
             .map_or("scene".into(), |s| s.to_string_lossy().into_owned());

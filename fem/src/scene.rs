@@ -86,7 +86,8 @@ impl Scene {
 
     /// Reads and validates the scene file at `path` (relative paths in it are taken from its folder).
     pub fn from_file(path: &std::path::Path) -> Result<Scene, SceneError> {
-        let text = std::fs::read_to_string(path)
+        let text = preflight::input::Cap::scene()
+            .and_then(|cap| preflight::input::read_text_capped(path, cap))
             .map_err(|e| SceneError::Parse(format!("cannot read {}: {e}", path.display())))?;
         Scene::from_toml_str_in(&text, path.parent().unwrap_or(std::path::Path::new(".")))
     }

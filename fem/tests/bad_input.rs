@@ -227,6 +227,63 @@ fn a_sine_sampled_only_at_its_zeros_is_refused() {
     let e = t.refused(&mut fem(&t, &[]));
     assert!(
         e.contains("fem.interface_sine.half_period") && e.contains("every node column falls on a zero"),
+
+/// The output of `cmd`, killed (and the test failed) if it has not ended within 60 s: a file
+/// without a size must be refused by the cap, not read until the memory runs out.
+fn within_a_minute(cmd: &mut Command) -> std::process::Output {
+    let mut child = cmd
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > std::time::Duration::from_secs(60) {
+            child.kill().unwrap();
+            panic!("still reading after 60 s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    child.wait_with_output().unwrap()
+}
+
+#[test]
+fn dev_zero_as_the_scene_or_the_mesh_is_refused_by_the_size_cap() {
+    let t = trial("dev-zero", "");
+    let out = within_a_minute(
+        Command::new(env!("CARGO_BIN_EXE_fem"))
+            .arg("/dev/zero")
+            .arg("--out")
+            .arg(&t.out),
+    );
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && out.stdout.is_empty(), "{e}");
+    assert!(
+        e.contains("/dev/zero")
+            && e.contains("above the cap of 16777216 bytes")
+            && e.contains("COHESIVE_MAX_SCENE_BYTES"),
+        "{e}"
+    );
+
+    let s = text("tiny-fem-plate-tri");
+    assert!(s.contains("file = "), "the scene reads a mesh file");
+    let s = s
+        .lines()
+        .map(|l| {
+            if l.trim_start().starts_with("file = ") {
+                "file = \"/dev/zero\""
+            } else {
+                l
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let t = trial("dev-zero-mesh", &s);
+    let out = within_a_minute(fem(&t, &[]).env("COHESIVE_MAX_MESH_BYTES", "1000000"));
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && out.stdout.is_empty(), "{e}");
+    assert!(
+        e.contains("fem.mesh.file") && e.contains("/dev/zero") && e.contains("more than 1000000 bytes"),
         "{e}"
     );
 }
