@@ -227,6 +227,9 @@ fn a_sine_sampled_only_at_its_zeros_is_refused() {
     let e = t.refused(&mut fem(&t, &[]));
     assert!(
         e.contains("fem.interface_sine.half_period") && e.contains("every node column falls on a zero"),
+        "{e}"
+    );
+}
 
 /// The output of `cmd`, killed (and the test failed) if it has not ended within 60 s: a file
 /// without a size must be refused by the cap, not read until the memory runs out.
