@@ -45,7 +45,8 @@ struct Common {
     budget: preflight::options::BudgetOptions,
     /// How many of a comparison's independent runs go at once, the cores shared out between them
     /// (default: one per core; 1 runs them one after the other, each on every core).
-    #[arg(long, global = true, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(long, global = true, value_name = "N", allow_negative_numbers = true,
+          value_parser = clap::value_parser!(u32).range(1..))]
     concurrent_runs: Option<u32>,
     /// Where contact friction acts in both models, instead of the scene's [friction]
     /// contact_friction (the comparison and `converged` only; the output folder gets the rule's
@@ -100,7 +101,7 @@ enum Job {
     /// the mean contact tractions as eps_n → ∞.
     Penalty {
         /// Factors f, comma-separated whole numbers ≥ 1.
-        #[arg(long, value_delimiter = ',', default_values_t = compare::penalty::EPS_FACTORS,
+        #[arg(long, value_delimiter = ',', default_values_t = compare::penalty::EPS_FACTORS, allow_negative_numbers = true,
               value_parser = clap::value_parser!(u32).range(1..))]
         factors: Vec<u32>,
     },
@@ -108,7 +109,7 @@ enum Job {
     /// comparison in boxes k × (4a × 2a) with the case's field and the exact elastic one.
     Boundary {
         /// Box factors k, comma-separated whole numbers ≥ 1.
-        #[arg(long, value_delimiter = ',', default_values_t = compare::boundary::BOX_FACTORS,
+        #[arg(long, value_delimiter = ',', default_values_t = compare::boundary::BOX_FACTORS, allow_negative_numbers = true,
               value_parser = clap::value_parser!(u32).range(1..))]
         boxes: Vec<u32>,
     },

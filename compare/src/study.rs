@@ -226,7 +226,9 @@ impl Study {
     /// Reads and parses the scene file at `path`, and returns its text too (read once, so the
     /// text is exactly the one the study was parsed from).
     pub fn read(path: &Path) -> Result<(Study, String)> {
-        let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+        let text = preflight::input::Cap::scene()
+            .and_then(|cap| preflight::input::read_text_capped(path, cap))
+            .with_context(|| format!("reading {}", path.display()))?;
         let stem = path
             .file_stem()
             .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
@@ -294,9 +296,9 @@ impl Study {
             }
         };
         let compare = harness.compare.unwrap_or_default();
-        if let Some(fem) = &fem {
-            problems.extend(compare_problems(&compare, fem, spectral.as_ref()));
-        }
+        // [compare]'s own problems are reported with the models' (each value's fit to the
+        // models only once the FE scene is valid)
+        problems.extend(compare_problems(&compare, fem.as_ref(), spectral.as_ref()));
         match (fem, problems.is_empty()) {
             (Some(fem), true) => Ok(Study {
                 stem: stem.to_string(),
@@ -406,7 +408,7 @@ impl Study {
 /// models listed once; a snapshot time inside the run.
 fn compare_problems(
     c: &CompareSection,
-    fem: &fem::Scene,
+    fem: Option<&fem::Scene>,
     spectral: Option<&spectral::Scene>,
 ) -> Vec<Problem> {
     let mut problems = Vec::new();
@@ -426,6 +428,7 @@ fn compare_problems(
                 ));
                 continue;
             }
+            let Some(fem) = fem else { continue };
             let fem_error = fem.with_friction_coeff(mu).err().map(|e| e.to_string());
             let spectral_error = spectral
                 .and_then(|s| s.with_friction_coeff(mu).err())
@@ -487,6 +490,40 @@ mod tests {
     fn text(name: &str) -> String {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../scenes/{name}.toml"));
         std::fs::read_to_string(path).unwrap()
+    }
+
+    /// The harness reports every problem of the scene at once: the shared tables', each model's
+    /// own section's and `[compare]`'s, even while the FE scene is refused (whose problems used
+    /// to hide `[compare]`'s). Each problem keeps its key (`Problems`).
+    #[test]
+    fn every_table_is_checked_at_once_with_each_key() {
+        let s = text("center-crack")
+            .replace("density = 1230.0 ", "density = -1.0 ")
+            .replace("half_length = 0.125 ", "half_length = -0.125 ")
+            .replace("element_size = 1e-3 ", "element_size = -1e-3 ")
+            .replace("grid_points = 4096 ", "grid_points = 3 ")
+            .replace("friction_coeffs = [0.0, 0.3]", "friction_coeffs = [0.3, 0.3]");
+        let e = Study::from_toml_str(&s, "c").unwrap_err();
+        let keys: Vec<String> = e
+            .downcast_ref::<Problems>()
+            .expect("the problems, typed")
+            .0
+            .iter()
+            .map(|p| p.key.clone())
+            .collect();
+        for k in [
+            "material.density",
+            "crack.half_length",
+            "fem.element_size",
+            "spectral.grid_points",
+            "compare.friction_coeffs",
+        ] {
+            assert!(keys.iter().any(|x| x == k), "{k} not in {keys:?}");
+        }
+        assert!(
+            e.to_string()
+                .starts_with(&format!("{} problems in the scene", keys.len()))
+        );
     }
 
     #[test]

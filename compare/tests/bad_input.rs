@@ -187,3 +187,29 @@ fn the_suite_takes_its_own_scenes_and_checks_its_budget() {
         "{e}"
     );
 }
+
+/// Negative numbers given to numeric options are read as values and refused with the range (they
+/// were taken for unknown flags), and a memory budget that is not a finite positive number is
+/// refused (`nan` became a 0-byte budget).
+#[test]
+fn negative_and_non_finite_option_values_are_refused_as_values() {
+    let text = scene_text("center-crack");
+    let e = refused("neg-factors", &["penalty"], &text, &["--factors", "-1"]);
+    assert!(
+        e.contains("'-1' for '--factors") && e.contains("-1 is not in 1.."),
+        "{e}"
+    );
+    let e = refused("neg-boxes", &["boundary"], &text, &["--boxes", "2,-3"]);
+    assert!(e.contains("'-3' for '--boxes") && e.contains("not in 1.."), "{e}");
+    let e = refused("neg-runs", &[], &text, &["--concurrent-runs", "-2"]);
+    assert!(e.contains("'-2' for '--concurrent-runs"), "{e}");
+    for bad in ["nan", "inf", "-1", "0"] {
+        let e = refused("nan-memory", &[], &text, &["--max-memory", bad]);
+        assert!(
+            e.contains("--max-memory <GIB>") && e.contains("give a finite number > 0"),
+            "{bad}: {e}"
+        );
+    }
+    let e = refused("neg-steps", &[], &text, &["--max-steps", "-5"]);
+    assert!(e.contains("'-5' for '--max-steps"), "{e}");
+}

@@ -230,4 +230,20 @@ mod tests {
         assert!(names.iter().all(|n| !n.contains(".tmp")), "{names:?}");
         std::fs::remove_dir_all(&dir).unwrap();
     }
+
+    /// A run without fracture has no damping share: run.csv leaves the field empty instead of
+    /// writing NaN, which reads as a failed computation.
+    #[test]
+    fn a_run_without_fracture_writes_no_damping_share() {
+        let dir = std::env::temp_dir().join(format!("fem-run-csv-{}", std::process::id()));
+        write_csv(&RunOutput::default(), &dir).unwrap();
+        let text = std::fs::read_to_string(dir.join("run.csv")).unwrap();
+        let mut lines = text.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let row: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let at = header.iter().position(|c| *c == "damping_share").unwrap();
+        assert_eq!(row[at], "", "{text}");
+        assert!(!text.contains("NaN"), "{text}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

@@ -321,8 +321,9 @@ pub struct RunRecord {
     pub fracture_energy: f64,
     /// Energy the damping removed [J/m].
     pub damping_removed: f64,
-    /// damping_removed / fracture_energy [-] (NaN without fracture).
-    pub damping_share: f64,
+    /// damping_removed / fracture_energy [-]; `None` (an empty field in run.csv) without
+    /// fracture, where the share has no meaning.
+    pub damping_share: Option<f64>,
     /// Contacts lost over the run because a penetration exceeded the detection distance
     /// (`fem.max_gap`) [-]; anything but 0 deserves a larger `max_gap` or a stiffer penalty.
     pub dropped_contacts: u64,
@@ -421,11 +422,7 @@ impl RunOutput {
             damping: self.damping.clone(),
             fracture_energy: fracture,
             damping_removed: last.damping_removed,
-            damping_share: if fracture > 0.0 {
-                last.damping_removed / fracture
-            } else {
-                f64::NAN
-            },
+            damping_share: (fracture > 0.0).then(|| last.damping_removed / fracture),
             dropped_contacts: self.contact.last().map_or(0, |c| c.dropped_contacts_total),
             status: self.status,
             last_step: self.steps,

@@ -29,7 +29,7 @@ pub use problem::{Crack, Loading, Ramp};
 use crate::error::SceneError;
 use crate::law::cohesive::LinearCohesive;
 use crate::law::elastic::{PlaneStrain, WaveSpeeds};
-use checks::{check, keep};
+use checks::{check, collected, keep};
 use raw::{RawRamp, RawScene};
 
 /// A validated scene.
@@ -86,7 +86,8 @@ impl Scene {
 
     /// Reads and validates the scene file at `path` (relative paths in it are taken from its folder).
     pub fn from_file(path: &std::path::Path) -> Result<Scene, SceneError> {
-        let text = std::fs::read_to_string(path)
+        let text = preflight::input::Cap::scene()
+            .and_then(|cap| preflight::input::read_text_capped(path, cap))
             .map_err(|e| SceneError::Parse(format!("cannot read {}: {e}", path.display())))?;
         Scene::from_toml_str_in(&text, path.parent().unwrap_or(std::path::Path::new(".")))
     }
@@ -267,6 +268,13 @@ impl Scene {
                 b.wave_speeds().cs
             ));
         }
+        if self.fem.output_interval < self.time_step {
+            w.push(format!(
+                "fem.output_interval = {:e} s is below the time step {:e} s: records are taken at \
+                 most once per step, so every step is recorded",
+                self.fem.output_interval, self.time_step
+            ));
+        }
         w
     }
 
@@ -335,6 +343,9 @@ fn validate(raw: RawScene) -> Result<Scene, SceneError> {
         (Some(_), None) => None,
         (_, c) => Some(c.as_ref().and_then(|c| c.as_ref())),
     };
+    if crack_for_fem.is_none() {
+        fem::check_fem_alone(&raw.fem, t_end, &mut errors);
+    }
     let fem = crack_for_fem.and_then(|c| {
         fem::validate_fem(
             &raw.fem,
@@ -393,6 +404,10 @@ fn validate(raw: RawScene) -> Result<Scene, SceneError> {
     }
 }
 
+/// The most steps a scene may ask for: far beyond any budget (the default is 10⁸), and within
+/// what a step counter and an f64 time hold exactly (2⁵³ ≈ 9e15).
+const MAX_STEPS_EVER: f64 = 1e15;
+
 /// The checks across sections, once each section is valid: zones need an `[interface]`, a penalty
 /// needs ε_n > 0, a requested Δt [s] must be stable (else the step is α/α_max of the limit), and
 /// ParaView's files over the `duration` [s] must stay within their limit.
@@ -434,6 +449,28 @@ fn cross_checks(scene: &mut Scene, duration: f64, errors: &mut Vec<SceneError>) 
         Some(dt) => dt,
         None => limit * scene.fem.time_step_safety / fem::MAX_SAFETY,
     };
+    // a step so small that no run could take T/Δt of them (Δt = 0 under an absurd penalty, or a
+    // count beyond what a step counter holds) is refused here, naming what makes it small, not
+    // later by the budget with advice no run could follow
+    let steps = duration / scene.time_step;
+    if !(scene.time_step > 0.0 && steps <= MAX_STEPS_EVER) {
+        let penalty = scene.fem.eps_n.max(scene.fem.eps_t);
+        let key = match (scene.has_penalty(), scene.fem.eps_t > scene.fem.eps_n) {
+            (true, false) if penalty * scene.fem.min_edge() > scene.material.youngs_modulus => "fem.eps_n",
+            (true, true) if penalty * scene.fem.min_edge() > scene.material.youngs_modulus => "fem.eps_t",
+            _ if scene.fem.requested_time_step.is_some() => "fem.time_step",
+            _ => "fem.element_size",
+        };
+        errors.push(checks::inconsistent(
+            key,
+            format!(
+                "the time step would be {:e} s, {steps:.3e} steps over loading.duration = {duration} s \
+                 (at most {MAX_STEPS_EVER:e}); Δt = α h/c_d · f(β_p) with β_p = max(ε_n, ε_t) h/E \
+                 (docs/fem-model.md §2)",
+                scene.time_step
+            ),
+        ));
+    }
     if let Some(p) = &scene.fem.paraview {
         let pieces = if scene.crack.is_some() || scene.interface.is_some() {
             2
@@ -441,17 +478,6 @@ fn cross_checks(scene: &mut Scene, duration: f64, errors: &mut Vec<SceneError>) 
             1
         };
         keep(errors, paraview::file_count(p, duration, scene.time_step, pieces));
-    }
-}
-
-/// One error as it is; several as `Invalid`, in the order found (lines are added by
-/// [`Scene::from_toml_str`], which has the text).
-fn collected(mut errors: Vec<SceneError>) -> SceneError {
-    if errors.len() == 1 {
-        return errors.pop().expect("invariant: one error");
-    }
-    SceneError::Invalid {
-        problems: errors.iter().flat_map(SceneError::problems).collect(),
     }
 }
 

@@ -109,3 +109,184 @@ fn an_empty_unwritable_or_foreign_output_folder_is_refused_before_any_step() {
     );
     assert!(e.contains("spectral model"), "{e}");
 }
+
+/// Every bad value of every table in one message: two or more per table, in the shared tables and
+/// in `[fem]`, with a refused `[crack]` (whose problems used to hide all of `[fem]`'s) and several
+/// keys of one table (of which only the first used to be reported).
+#[test]
+fn every_bad_value_of_every_table_is_reported_at_once() {
+    let bad = [
+        (
+            "youngs_modulus = 70e6 ",
+            "youngs_modulus = -70e6 ",
+            "material.youngs_modulus",
+        ),
+        ("density = 1230.0 ", "density = -1.0 ", "material.density"),
+        ("sigma_c = 0.4e6 ", "sigma_c = 0.0 ", "interface.sigma_c"),
+        ("delta_c = 1e-4 ", "delta_c = -1e-4 ", "interface.delta_c"),
+        ("kappa = 1.0 ", "kappa = 0.0 ", "interface.kappa"),
+        (
+            "half_length = 0.125 ",
+            "half_length = -0.125 ",
+            "crack.half_length",
+        ),
+        (
+            "friction_coeff = 0.3 ",
+            "friction_coeff = -0.3 ",
+            "friction.friction_coeff",
+        ),
+        (
+            "initial = 0.0, final = -0.05e6",
+            "initial = nan, final = -0.05e6",
+            "loading.normal.initial",
+        ),
+        (
+            "ramp_start = 0.0, ramp_end = 0.02",
+            "ramp_start = 0.0, ramp_end = -1.0",
+            "loading.shear.ramp_end",
+        ),
+        (
+            "element_size = 1e-3 ",
+            "element_size = -1e-3 ",
+            "fem.element_size",
+        ),
+        ("model = \"hybrid\" ", "model = \"hybird\" ", "fem.model"),
+        (
+            "insertion_rule = \"max\" ",
+            "insertion_rule = \"maximum\" ",
+            "fem.insertion_rule",
+        ),
+        ("eps_n = 2.1e10 ", "eps_n = -2.1e10 ", "fem.eps_n"),
+        ("eps_t = 2.1e10 ", "eps_t = -2.1e10 ", "fem.eps_t"),
+        (
+            "output_interval = 2e-5 ",
+            "output_interval = -2e-5 ",
+            "fem.output_interval",
+        ),
+        ("max_gap = 1e-3 ", "max_gap = -1e-3 ", "fem.max_gap"),
+        (
+            "projection_tolerance = 1e-3 ",
+            "projection_tolerance = 0.7 ",
+            "fem.projection_tolerance",
+        ),
+    ];
+    let mut s = text("center-crack");
+    for (from, to, _) in bad {
+        assert!(s.contains(from), "{from}");
+        s = s.replacen(from, to, 1);
+    }
+    let t = trial("all-at-once", &s);
+    let e = t.refused(&mut fem(&t, &[]));
+    let missing: Vec<&str> = bad.iter().map(|b| b.2).filter(|k| !e.contains(k)).collect();
+    assert!(missing.is_empty(), "not reported: {missing:?}\n{e}");
+    assert!(e.contains(&format!("{} problems in the scene", bad.len())), "{e}");
+}
+
+/// A penalty so stiff that the stable step vanishes (Δt = 0 at ε_n = 1e300) is refused naming
+/// the penalty, not passed on to the budget, whose advice (raise --max-steps to 2^64 − 1) would
+/// run NaN steps; a step count is never printed saturated.
+#[test]
+fn a_penalty_that_makes_the_step_vanish_is_refused_naming_it() {
+    let s = text("center-crack").replace("eps_n = 2.1e10 ", "eps_n = 1e300 ");
+    let t = trial("vanishing-step", &s);
+    let e = t.refused(&mut fem(&t, &[]));
+    assert!(
+        e.contains("fem.eps_n") && e.contains("the time step would be 0e0 s"),
+        "{e}"
+    );
+    assert!(
+        !e.contains("18446744073709551615") && !e.contains("--max-steps"),
+        "{e}"
+    );
+}
+
+/// An output interval below the time step silently sampled every step: the run now says so
+/// before it starts (a warning: "every step" is a legitimate wish).
+#[test]
+fn an_output_interval_below_the_step_is_said_to_mean_every_step() {
+    let s = text("tiny-fem-center-crack").replace("output_interval = 1e-5 ", "output_interval = 1e-300 ");
+    let t = trial("tiny-interval", &s);
+    let out = fem(&t, &[]).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("warning: fem.output_interval = 1e-300 s is below the time step")
+            && err.contains("every step is recorded"),
+        "{err}"
+    );
+}
+
+/// A sine whose half-period equals h puts every node column on one of its zeros: the row would
+/// be flat, which is not the interface asked for.
+#[test]
+fn a_sine_sampled_only_at_its_zeros_is_refused() {
+    // h = 1 mm; `from` = 0.125 m lies on a node
+    let s = text("sinusoidal-interface").replace("half_period = 0.0625", "half_period = 0.001");
+    assert!(s.contains("element_size = 1e-3 "), "the test needs h = 1 mm");
+    let t = trial("flat-sine", &s);
+    let e = t.refused(&mut fem(&t, &[]));
+    assert!(
+        e.contains("fem.interface_sine.half_period") && e.contains("every node column falls on a zero"),
+        "{e}"
+    );
+}
+
+/// The output of `cmd`, killed (and the test failed) if it has not ended within 60 s: a file
+/// without a size must be refused by the cap, not read until the memory runs out.
+fn within_a_minute(cmd: &mut Command) -> std::process::Output {
+    let mut child = cmd
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > std::time::Duration::from_secs(60) {
+            child.kill().unwrap();
+            panic!("still reading after 60 s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    child.wait_with_output().unwrap()
+}
+
+#[test]
+fn dev_zero_as_the_scene_or_the_mesh_is_refused_by_the_size_cap() {
+    let t = trial("dev-zero", "");
+    let out = within_a_minute(
+        Command::new(env!("CARGO_BIN_EXE_fem"))
+            .arg("/dev/zero")
+            .arg("--out")
+            .arg(&t.out),
+    );
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && out.stdout.is_empty(), "{e}");
+    assert!(
+        e.contains("/dev/zero")
+            && e.contains("above the cap of 16777216 bytes")
+            && e.contains("COHESIVE_MAX_SCENE_BYTES"),
+        "{e}"
+    );
+
+    let s = text("tiny-fem-plate-tri");
+    assert!(s.contains("file = "), "the scene reads a mesh file");
+    let s = s
+        .lines()
+        .map(|l| {
+            if l.trim_start().starts_with("file = ") {
+                "file = \"/dev/zero\""
+            } else {
+                l
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let t = trial("dev-zero-mesh", &s);
+    let out = within_a_minute(fem(&t, &[]).env("COHESIVE_MAX_MESH_BYTES", "1000000"));
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && out.stdout.is_empty(), "{e}");
+    assert!(
+        e.contains("fem.mesh.file") && e.contains("/dev/zero") && e.contains("more than 1000000 bytes"),
+        "{e}"
+    );
+}

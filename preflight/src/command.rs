@@ -125,10 +125,12 @@ where
         path: scene_path.to_path_buf(),
         source: e,
     };
-    let text = std::fs::read_to_string(scene_path).map_err(|source| SetUpError::Read {
-        path: scene_path.to_path_buf(),
-        source,
-    })?;
+    let text = crate::input::Cap::scene()
+        .and_then(|cap| crate::input::read_text_capped(scene_path, cap))
+        .map_err(|source| SetUpError::Read {
+            path: scene_path.to_path_buf(),
+            source,
+        })?;
     let dir = scene_path.parent().unwrap_or(Path::new("."));
     let scene = read(&text, dir).map_err(|e| invalid(Box::new(e)))?;
     let out_dir = options.out_dir(model, scene_path).map_err(SetUpError::Refused)?;

@@ -2,6 +2,7 @@
 //! the comparison harness:
 //! - [`file`]: the scene file as its user wrote it — unknown keys collected, every problem located
 //!   on its line;
+//! - [`input`]: scene and mesh files read through a size cap;
 //! - [`budget`]: memory and step estimates against a budget, refused with the key to change;
 //! - [`paths`]: output folders that stay where they are asked to be, and are writable before any
 //!   work;
@@ -18,6 +19,7 @@ pub mod budget;
 pub mod command;
 pub mod ended;
 pub mod file;
+pub mod input;
 #[cfg(feature = "cli")]
 pub mod options;
 pub mod paths;

@@ -8,11 +8,22 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, Clone, clap::Args)]
 pub struct BudgetOptions {
     /// Memory budget of a run [GiB]: a run estimated above it is refused before it starts.
-    #[arg(long, global = true, value_name = "GIB", default_value_t = (DEFAULT_MAX_BYTES >> 30) as f64)]
+    #[arg(long, global = true, value_name = "GIB", default_value_t = (DEFAULT_MAX_BYTES >> 30) as f64,
+          allow_negative_numbers = true, value_parser = parse_gib)]
     pub max_memory: f64,
     /// Time-step budget of a run: a run needing more steps is refused before it starts.
-    #[arg(long, global = true, value_name = "N", default_value_t = DEFAULT_MAX_STEPS)]
+    #[arg(long, global = true, value_name = "N", default_value_t = DEFAULT_MAX_STEPS,
+          allow_negative_numbers = true)]
     pub max_steps: u64,
+}
+
+/// `--max-memory`: a finite number of GiB > 0 (NaN would become a 0-byte budget, inf no budget).
+fn parse_gib(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(g) if g.is_finite() && g > 0.0 => Ok(g),
+        Ok(g) => Err(format!("{g} GiB: give a finite number > 0")),
+        Err(e) => Err(format!("{s:?}: {e}")),
+    }
 }
 
 impl BudgetOptions {

@@ -360,7 +360,8 @@ impl Scene {
     /// the keys are checked by ``validate()`` and by every run.
     #[staticmethod]
     fn from_file(path: PathBuf) -> PyResult<Scene> {
-        let text = std::fs::read_to_string(&path)
+        let text = preflight::input::Cap::scene()
+            .and_then(|cap| preflight::input::read_text_capped(&path, cap))
             .map_err(|e| pyo3::exceptions::PyOSError::new_err(format!("reading {}: {e}", path.display())))?;
         let stem = path
             .file_stem()

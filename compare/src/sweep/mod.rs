@@ -383,12 +383,54 @@ pub fn point_csv(p: &Point) -> Result<Vec<u8>> {
     w.into_inner().map_err(|e| anyhow!("{e}"))
 }
 
-/// The point of [`point_csv`]'s text: exactly one row.
+/// The point of [`point_csv`]'s text: exactly one row, each number one a run can give (a point
+/// file is read back from disk or from a child process: a damaged or edited one must not carry
+/// NaN or inf into sweep.csv and the figure).
 pub fn read_point(csv_text: &[u8]) -> Result<Point> {
     let mut rows = csv::Reader::from_reader(csv_text).into_deserialize::<Point>();
     let p = rows.next().ok_or_else(|| anyhow!("no point in it"))??;
     anyhow::ensure!(rows.next().is_none(), "more than one point in it");
+    p.check()?;
     Ok(p)
+}
+
+impl Point {
+    /// Refuses a number no run gives, naming its column: sizes and step finite and positive, the
+    /// wall time finite and not negative; the onset and the speed finite, or NaN with the note
+    /// saying why; the errors and the peak memory finite and not negative, or NaN (not
+    /// measured); inf nowhere.
+    fn check(&self) -> Result<()> {
+        let positive = [
+            ("nominal_size", self.nominal_size),
+            ("spacing", self.spacing),
+            ("time_step", self.time_step),
+        ];
+        for (name, v) in positive {
+            anyhow::ensure!(v.is_finite() && v > 0.0, "{name} = {v}: a finite number > 0");
+        }
+        anyhow::ensure!(
+            self.wall_s.is_finite() && self.wall_s >= 0.0,
+            "wall_s = {}: a finite number >= 0",
+            self.wall_s
+        );
+        for (name, v) in [("onset", self.onset), ("mean_speed", self.mean_speed)] {
+            anyhow::ensure!(
+                v.is_finite() || (v.is_nan() && !self.note.is_empty()),
+                "{name} = {v}: a finite number, or NaN with a note saying why"
+            );
+        }
+        for (name, v) in [
+            ("peak_memory_bytes", self.peak_memory_bytes),
+            ("onset_error_over_t", self.onset_error_over_t),
+            ("speed_error_rel", self.speed_error_rel),
+        ] {
+            anyhow::ensure!(
+                v.is_nan() || (v.is_finite() && v >= 0.0),
+                "{name} = {v}: a finite number >= 0, or NaN (not measured)"
+            );
+        }
+        Ok(())
+    }
 }
 
 /// Prints one point as CSV (header + row) on stdout: the child's answer to its parent.
@@ -449,6 +491,44 @@ pub fn write_results(dir: &std::path::Path, rows: &[Point]) -> Result<Vec<std::p
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A point file with inf or an unexplained NaN is refused naming the column, so that it cannot
+    /// flow into sweep.csv and the figure; a NaN onset with its note, as a run writes it, is read.
+    #[test]
+    fn a_point_with_a_number_no_run_gives_is_refused_naming_it() {
+        let good = Point {
+            model: Model::Fem,
+            nominal_size: 1e-3,
+            spacing: 1e-3,
+            time_step: 1e-6,
+            wall_s: 1.0,
+            peak_memory_bytes: 1e6,
+            onset: f64::NAN,
+            mean_speed: 100.0,
+            onset_error_over_t: f64::NAN,
+            speed_error_rel: f64::NAN,
+            note: "tip never moved 0.05a".into(),
+        };
+        assert!(read_point(&point_csv(&good).unwrap()).is_ok());
+        type Damage = fn(&mut Point);
+        let cases: [(&str, Damage); 5] = [
+            ("wall_s = inf", |p| p.wall_s = f64::INFINITY),
+            ("time_step = NaN", |p| p.time_step = f64::NAN),
+            ("mean_speed = inf", |p| p.mean_speed = f64::INFINITY),
+            ("onset = NaN: a finite number, or NaN with a note", |p| {
+                p.note.clear()
+            }),
+            ("speed_error_rel = -inf", |p| {
+                p.speed_error_rel = f64::NEG_INFINITY
+            }),
+        ];
+        for (message, damage) in cases {
+            let mut p = good.clone();
+            damage(&mut p);
+            let e = read_point(&point_csv(&p).unwrap()).unwrap_err().to_string();
+            assert!(e.contains(message), "{message}: {e}");
+        }
+    }
 
     #[test]
     fn errors_are_measured_against_the_finest_point_of_each_model() {

@@ -15,9 +15,11 @@ use crate::law::elastic::PlaneStrain;
 pub(crate) fn material(prefix: &str, m: &RawMaterial) -> Result<PlaneStrain, SceneError> {
     let key = |field: &str| format!("{prefix}.{field}");
     let (e, nu, rho) = (m.youngs_modulus, m.poisson_ratio, m.density);
-    check(key("youngs_modulus"), e, e > 0.0, "> 0 Pa")?;
-    check(key("poisson_ratio"), nu, (0.0..0.5).contains(&nu), "[0, 0.5)")?;
-    check(key("density"), rho, rho > 0.0, "> 0 kg/m^3")?;
+    let mut p = Problems::default();
+    p.check(key("youngs_modulus"), e, e > 0.0, "> 0 Pa");
+    p.check(key("poisson_ratio"), nu, (0.0..0.5).contains(&nu), "[0, 0.5)");
+    p.check(key("density"), rho, rho > 0.0, "> 0 kg/m^3");
+    p.done()?;
     Ok(PlaneStrain::new(e, nu, rho))
 }
 
@@ -26,20 +28,22 @@ pub(crate) fn material(prefix: &str, m: &RawMaterial) -> Result<PlaneStrain, Sce
 /// different `final` that starts at or after T is refused (its `final` would never be reached);
 /// one whose two values are equal is a constant and may start anywhere.
 pub(crate) fn ramp(field: &str, r: &RawRamp, duration: f64) -> Result<Ramp, SceneError> {
-    check(format!("{field}.initial"), r.initial, true, "a finite number")?;
-    check(format!("{field}.final"), r.final_, true, "a finite number")?;
-    check(
+    let mut p = Problems::default();
+    p.check(format!("{field}.initial"), r.initial, true, "a finite number");
+    p.check(format!("{field}.final"), r.final_, true, "a finite number");
+    p.check(
         format!("{field}.ramp_start"),
         r.ramp_start,
         r.ramp_start >= 0.0 && (r.ramp_start < duration || r.final_ == r.initial),
         "[0, loading.duration) s: a ramp starting at or after T never reaches its final value",
-    )?;
-    check(
+    );
+    p.check(
         format!("{field}.ramp_end"),
         r.ramp_end,
         r.ramp_end >= r.ramp_start,
         ">= ramp_start",
-    )?;
+    );
+    p.done()?;
     Ok(Ramp {
         initial: r.initial,
         final_value: r.final_,
@@ -55,10 +59,12 @@ pub(crate) fn cohesive_law(
     [sigma_c, delta_c, beta, kappa]: [f64; 4],
 ) -> Result<LinearCohesive, SceneError> {
     let key = |field: &str| format!("{prefix}.{field}");
-    check(key("sigma_c"), sigma_c, sigma_c > 0.0, "> 0 Pa")?;
-    check(key("delta_c"), delta_c, delta_c > 0.0, "> 0 m")?;
-    check(key("beta"), beta, beta > 0.0, "> 0")?;
-    check(key("kappa"), kappa, kappa > 0.0, "> 0")?;
+    let mut p = Problems::default();
+    p.check(key("sigma_c"), sigma_c, sigma_c > 0.0, "> 0 Pa");
+    p.check(key("delta_c"), delta_c, delta_c > 0.0, "> 0 m");
+    p.check(key("beta"), beta, beta > 0.0, "> 0");
+    p.check(key("kappa"), kappa, kappa > 0.0, "> 0");
+    p.done()?;
     Ok(LinearCohesive {
         sigma_c,
         delta_c,
@@ -111,6 +117,51 @@ pub(crate) fn inconsistent(key: impl Into<String>, message: impl Into<String>) -
     SceneError::Inconsistent {
         key: key.into(),
         message: message.into(),
+    }
+}
+
+/// Every problem of one table, not only the first: each check records its problem and the
+/// validation goes on to the next key, so one run of a scene reports every bad value at once.
+#[derive(Debug, Default)]
+pub(crate) struct Problems(Vec<SceneError>);
+
+impl Problems {
+    /// `value`, checked as [`check`] checks it: a problem is recorded, and the value is returned
+    /// either way (a table with a problem is refused as a whole by [`Problems::done`]).
+    pub(crate) fn check(&mut self, field: impl Into<String>, value: f64, ok: bool, allowed: &str) -> f64 {
+        if let Err(e) = check(field, value, ok, allowed) {
+            self.0.push(e);
+        }
+        value
+    }
+
+    /// The value of `r`, or `None` with its problem recorded.
+    pub(crate) fn keep<T>(&mut self, r: Result<T, SceneError>) -> Option<T> {
+        keep(&mut self.0, r)
+    }
+
+    /// Records a problem.
+    pub(crate) fn push(&mut self, e: SceneError) {
+        self.0.push(e);
+    }
+
+    /// `Ok` when no problem was recorded; otherwise all of them in one error.
+    pub(crate) fn done(self) -> Result<(), SceneError> {
+        if self.0.is_empty() {
+            Ok(())
+        } else {
+            Err(collected(self.0))
+        }
+    }
+}
+
+/// Several problems as one error (one problem stays itself).
+pub(crate) fn collected(mut errors: Vec<SceneError>) -> SceneError {
+    if errors.len() == 1 {
+        return errors.pop().expect("invariant: one error");
+    }
+    SceneError::Invalid {
+        problems: errors.iter().flat_map(SceneError::problems).collect(),
     }
 }
 

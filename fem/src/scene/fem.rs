@@ -1,7 +1,7 @@
 //! The `[fem]` section: discretisation, model options, boundary conditions.
 
 use super::boundary::{BoundaryKind, BoundarySpec, GRID_SIDES, boundary, kinds_fit_parts, mesh_boundary};
-use super::checks::{check, inconsistent, keep, option};
+use super::checks::{Problems, check, inconsistent, keep, option};
 use super::damping::{Damping, damping};
 use super::diagnostics::{Diagnostics, diagnostics};
 use super::interface_spec::{
@@ -107,16 +107,19 @@ fn is_multiple(length: f64, h: f64) -> bool {
 }
 
 fn geometry(f: &RawFem, crack: Option<&Crack>) -> Result<(), SceneError> {
-    let h = check("fem.element_size", f.element_size, f.element_size > 0.0, "> 0 m")?;
+    let mut p = Problems::default();
+    let h = p.check("fem.element_size", f.element_size, f.element_size > 0.0, "> 0 m");
     let [x0, x1] = f.x_range;
     let [y0, y1] = f.y_range;
-    check("fem.x_range", x1 - x0, x1 > x0, "x_range[1] > x_range[0]")?;
-    check(
+    p.check("fem.x_range", x1 - x0, x1 > x0, "x_range[1] > x_range[0]");
+    p.check(
         "fem.y_range",
         y0,
         y0 < 0.0 && y1 > 0.0,
         "y_range[0] < 0 < y_range[1] (y = 0 is the interface row)",
-    )?;
+    );
+    // the fit of the grid to the domain and the crack needs a valid h and domain
+    p.done()?;
     for (name, len) in [
         ("width", x1 - x0),
         ("height below y = 0", -y0),
@@ -147,6 +150,26 @@ fn geometry(f: &RawFem, crack: Option<&Crack>) -> Result<(), SceneError> {
         }
     }
     Ok(())
+}
+
+/// The checks of `[fem]` that do not depend on the pre-crack or on a mesh: run alone when
+/// `[crack]` is refused, so that the problems of `[fem]` are reported with those of the shared
+/// tables instead of after they are fixed. (With `[fem.mesh]` the form is completed from the mesh
+/// first, which needs a valid crack; such a scene waits for its crack.)
+pub(crate) fn check_fem_alone(f: &RawFem, duration: f64, errors: &mut Vec<SceneError>) {
+    if f.mesh.is_some() {
+        return;
+    }
+    keep(errors, geometry(f, None));
+    keep(errors, options(f));
+    keep(errors, damping(f));
+    keep(errors, step_and_penalties(f, duration));
+    keep(errors, contact_distances(f));
+    let t_star = f.t_star.unwrap_or(0.0);
+    keep(errors, check("fem.t_star", t_star, t_star >= 0.0, ">= 0 s"));
+    keep(errors, diagnostics(f, duration));
+    keep(errors, probes(f));
+    keep(errors, paraview(f, duration));
 }
 
 /// Validates `[fem]` against the pre-crack and the duration T [s], adding every problem found to
@@ -262,66 +285,75 @@ fn interface_row(
 
 /// The string options: model and insertion rule.
 fn options(f: &RawFem) -> Result<(ModelKind, InsertionRule), SceneError> {
-    let model = option(
+    let mut p = Problems::default();
+    let model = p.keep(option(
         "fem.model",
         f.model.as_ref(),
         ModelKind::Hybrid,
         &[("hybrid", ModelKind::Hybrid), ("standard", ModelKind::Standard)],
         "\"hybrid\" or \"standard\"",
-    )?;
-    let insertion_rule = option(
+    ));
+    let insertion_rule = p.keep(option(
         "fem.insertion_rule",
         f.insertion_rule.as_ref(),
         InsertionRule::Max,
         &[("max", InsertionRule::Max), ("mean", InsertionRule::Mean)],
         "\"max\" or \"mean\"",
-    )?;
+    ));
+    p.done()?;
+    let (Some(model), Some(insertion_rule)) = (model, insertion_rule) else {
+        unreachable!("invariant: both options passed, done() found no problem");
+    };
     Ok((model, insertion_rule))
 }
 
 /// Safety factor α, requested step, output interval and penalties (α, ε_n, ε_t).
 fn step_and_penalties(f: &RawFem, duration: f64) -> Result<(f64, f64, f64), SceneError> {
+    let mut p = Problems::default();
     let alpha = f.time_step_safety.unwrap_or(0.5);
-    check(
+    p.check(
         "fem.time_step_safety",
         alpha,
         alpha > 0.0 && alpha <= MAX_SAFETY,
         "(0, 0.95]",
-    )?;
+    );
     if let Some(dt) = f.time_step {
-        check("fem.time_step", dt, dt > 0.0, "> 0 s")?;
+        p.check("fem.time_step", dt, dt > 0.0, "> 0 s");
         if f.time_step_safety.is_some() {
-            return Err(inconsistent(
+            p.push(inconsistent(
                 "fem.time_step",
                 "give fem.time_step [s] or fem.time_step_safety [-], not both",
             ));
         }
     }
     let dt_out = f.output_interval;
-    check(
+    p.check(
         "fem.output_interval",
         dt_out,
         dt_out > 0.0 && dt_out <= duration,
         "(0, loading.duration] s",
-    )?;
+    );
     let eps_n = f.eps_n.unwrap_or(0.0);
     let eps_t = f.eps_t.unwrap_or(eps_n);
-    check("fem.eps_n", eps_n, eps_n >= 0.0, ">= 0 Pa/m")?;
-    check("fem.eps_t", eps_t, eps_t >= 0.0, ">= 0 Pa/m")?;
+    p.check("fem.eps_n", eps_n, eps_n >= 0.0, ">= 0 Pa/m");
+    p.check("fem.eps_t", eps_t, eps_t >= 0.0, ">= 0 Pa/m");
+    p.done()?;
     Ok((alpha, eps_n, eps_t))
 }
 
 /// Detection distance d_max [m] and projection tolerance.
 fn contact_distances(f: &RawFem) -> Result<(f64, f64), SceneError> {
+    let mut p = Problems::default();
     let max_gap = f.max_gap.unwrap_or(f.element_size);
-    check("fem.max_gap", max_gap, max_gap > 0.0, "> 0 m")?;
+    p.check("fem.max_gap", max_gap, max_gap > 0.0, "> 0 m");
     let tol = f.projection_tolerance.unwrap_or(1e-3);
-    check(
+    p.check(
         "fem.projection_tolerance",
         tol,
         (0.0..0.5).contains(&tol),
         "[0, 0.5)",
-    )?;
+    );
+    p.done()?;
     Ok((max_gap, tol))
 }
 
@@ -381,20 +413,22 @@ fn blocks_and_boundary(
 
 fn probes(f: &RawFem) -> Result<Vec<[f64; 2]>, SceneError> {
     let probes = f.probes.clone().unwrap_or_default();
+    let mut problems = Problems::default();
     for p in &probes {
-        check(
+        problems.check(
             "fem.probes",
             p[0],
             p[0] >= f.x_range[0] && p[0] <= f.x_range[1],
             "inside fem.x_range",
-        )?;
-        check(
+        );
+        problems.check(
             "fem.probes",
             p[1],
             p[1] >= f.y_range[0] && p[1] <= f.y_range[1],
             "inside fem.y_range",
-        )?;
+        );
     }
+    problems.done()?;
     Ok(probes)
 }
 

@@ -71,7 +71,7 @@ pub(crate) fn sine_polyline(f: &RawFem, s: &RawSine, center_x: f64) -> Result<Ve
     }
     let h = f.element_size;
     let n = ((f.x_range[1] - f.x_range[0]) / h).round() as usize;
-    Ok((0..=n)
+    let path: Vec<[f64; 2]> = (0..=n)
         .map(|i| {
             let x = f.x_range[0] + i as f64 * h;
             let r = (x - center_x).abs();
@@ -82,7 +82,22 @@ pub(crate) fn sine_polyline(f: &RawFem, s: &RawSine, center_x: f64) -> Result<Ve
             };
             [x, y]
         })
-        .collect())
+        .collect();
+    // sampled at the node columns only: an element size that is a multiple of the half-period,
+    // from a `from` on a node, puts every node on a zero of the sine and the row stays flat
+    let largest = path.iter().map(|p| p[1].abs()).fold(0.0, f64::max);
+    if s.amplitude != 0.0 && largest <= 1e-9 * s.amplitude.abs() {
+        return Err(inconsistent(
+            "fem.interface_sine.half_period",
+            format!(
+                "every node column falls on a zero of the sine (half_period = {} m, fem.element_size \
+                 = {h} m): the interface row would be flat (h is a multiple of the half-period); give a \
+                 half-period of several elements",
+                s.half_period
+            ),
+        ));
+    }
+    Ok(path)
 }
 
 fn zone(f: &RawFem, k: usize, z: &RawZone) -> Result<InterfaceZone, SceneError> {

@@ -295,7 +295,8 @@ density = 1230.0
     fn two_halves_with_no_generalized_rayleigh_wave_are_warned_about() {
         let far = SPLIT.replace("youngs_modulus = 560e6", "youngs_modulus = 70e6");
         let s = Scene::from_toml_str(&with_material(&far)).unwrap();
-        assert!(s.warnings().is_empty(), "ρ × 2: {:?}", s.warnings());
+        let rayleigh = |w: &String| w.contains("no generalized Rayleigh wave");
+        assert!(!s.warnings().iter().any(rayleigh), "ρ × 2: {:?}", s.warnings());
         let s = Scene::from_toml_str(&with_material(SPLIT)).unwrap();
         assert!(
             s.warnings()

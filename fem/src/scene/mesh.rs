@@ -180,8 +180,14 @@ fn mesh_unit(m: &RawMesh) -> Result<f64, SceneError> {
 /// the coordinates, or shrinks the elements until their areas underflow, is the unit's fault, not
 /// the mesh's (nor the contact distances' derived from h).
 fn read_prepared(file: &Path, roles: &MeshRoles, unit: f64) -> Result<PreparedMesh, SceneError> {
-    let mut mesh = crate::mesh::gmsh::UnstructuredMesh::read(file)
-        .map_err(|e| inconsistent("fem.mesh.file", e.to_string()))?;
+    use crate::mesh::gmsh::MeshError;
+    let mut mesh = crate::mesh::gmsh::UnstructuredMesh::read(file).map_err(|e| {
+        let message = match e {
+            MeshError::Io { .. } => e.to_string(),
+            _ => format!("{}: {e}", file.display()),
+        };
+        inconsistent("fem.mesh.file", message)
+    })?;
     mesh.scale(unit);
     if mesh
         .positions

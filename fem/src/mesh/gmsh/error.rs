@@ -17,6 +17,66 @@ pub enum MeshError {
     /// The bytes are not a Gmsh MSH 4.1 file (ASCII or binary) that `mshio` understands.
     #[error("the mesh file does not parse as Gmsh MSH 4.1: {0}")]
     Parse(String),
+    /// A line (ASCII) or a record (binary) that is not what its section holds there.
+    #[error("{section}, {at}: expected {expected}, found \"{found}\"")]
+    Malformed {
+        /// The section, as `$Nodes`.
+        section: String,
+        /// Where: `line N` (1-based) or `byte N`.
+        at: String,
+        /// What the format puts there.
+        expected: String,
+        /// The line as found, at most 64 bytes of it.
+        found: String,
+    },
+    /// A count of a section's header (or of a block's) that its body does not match.
+    #[error("{section} header at {at} declares {expected} {what}, found {found}")]
+    CountMismatch {
+        /// The section or block, as `$Nodes block`.
+        section: String,
+        /// Where the count stands: `line N` (1-based) or `byte N`.
+        at: String,
+        /// What is counted.
+        what: &'static str,
+        /// The count declared.
+        expected: u64,
+        /// The count found in the body.
+        found: u64,
+    },
+    /// A section opened and never closed by its `$End…` line.
+    #[error("{section} opened on line {line} has no $End{} line", &section[1..])]
+    Unclosed {
+        /// The section, as `$PhysicalNames`.
+        section: String,
+        /// Line of its header (1-based).
+        line: usize,
+    },
+    /// A node tag that is 0, outside the `$Nodes` header's range, or defined twice.
+    #[error("node tag {tag} at {at} is {reason}")]
+    BadNodeTag {
+        /// The tag.
+        tag: u64,
+        /// Where: `line N` (1-based) or `byte N`.
+        at: String,
+        /// Why it is refused.
+        reason: String,
+    },
+    /// A node coordinate that is NaN or infinite.
+    #[error("node {node} ({at}) has a coordinate that is not a finite number")]
+    NonFiniteNode {
+        /// Node tag.
+        node: u64,
+        /// Where: `line N` (1-based) of its coordinates, or the section.
+        at: String,
+    },
+    /// An `$Elements` section that declares no element.
+    #[error(
+        "$Elements header on line {line} declares 0 elements: the mesh has no 2D element (triangle or quadrangle)"
+    )]
+    NoElements {
+        /// Line of the header (1-based).
+        line: usize,
+    },
     /// A section the mesh needs is absent.
     #[error("the mesh file has no {0} section")]
     MissingSection(&'static str),

@@ -13,7 +13,8 @@
 //! names those tags. Bulk elements are counter-clockwise; local edge `k` of an element joins its
 //! nodes `k` and `k + 1` (cyclically), so the element lies to the left of its edges.
 //!
-//! Parts: the mesh types are here; `read` reads and checks a file, `query` answers questions on a
+//! Parts: the mesh types are here; `scan` checks a file's structure (counts, tags, lines), `scan_binary`
+//! the node tags of a binary file, `read` reads and checks a file, `query` answers questions on a
 //! read mesh, `chains` orders an interface's lines into chains, `split` twins their nodes, and
 //! `error` holds [`MeshError`].
 
@@ -21,6 +22,8 @@ mod chains;
 mod error;
 mod query;
 mod read;
+mod scan;
+mod scan_binary;
 mod split;
 
 pub use chains::{Chain, Segment, interface_chains, interface_chains_of};

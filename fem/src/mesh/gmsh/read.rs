@@ -3,7 +3,7 @@
 //! bulk elements, conformity).
 
 use super::{BulkElement, ElementKind, LineElement, MeshError, PhysicalGroup, UnstructuredMesh};
-use super::{edge_start, signed_area};
+use super::{edge_start, scan, signed_area};
 use mshio::{ElementBlock, ElementType, Elements, MshFile, Nodes};
 use nalgebra::Vector2;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
@@ -17,26 +17,42 @@ const Z_TOLERANCE: f64 = 1e-10;
 const AREA_TOLERANCE: f64 = 1e-12;
 
 impl UnstructuredMesh {
-    /// Reads a Gmsh MSH 4.1 file, ASCII or binary.
+    /// Reads a Gmsh MSH 4.1 file, ASCII or binary, through the mesh size cap
+    /// ([`preflight::input::Cap::mesh`]: 2 GiB unless `COHESIVE_MAX_MESH_BYTES` says otherwise).
     pub fn read(path: &Path) -> Result<Self, MeshError> {
-        let bytes = std::fs::read(path).map_err(|e| MeshError::Io {
+        let io = |e: std::io::Error| MeshError::Io {
             path: path.display().to_string(),
             message: e.to_string(),
-        })?;
+        };
+        let bytes =
+            preflight::input::read_capped(path, preflight::input::Cap::mesh().map_err(io)?).map_err(io)?;
         Self::from_msh_bytes(&bytes)
     }
 
-    /// Builds the mesh from the bytes of a Gmsh MSH 4.1 file, ASCII or binary.
+    /// Builds the mesh from the bytes of a Gmsh MSH 4.1 file, ASCII or binary. The file's
+    /// structure is checked first (`scan`), so that `mshio` parses only well-formed sections.
     pub fn from_msh_bytes(bytes: &[u8]) -> Result<Self, MeshError> {
+        let tags = scan::node_tags(bytes)?;
         // mshio 0.4 still has a few `unimplemented!`/`expect` on malformed headers: a panic there
         // becomes a parse error here, never a panic of the caller.
         let parsed = std::panic::catch_unwind(|| {
-            mshio::parse_msh_bytes(bytes).map_err(|e| MeshError::Parse(e.to_string()))
+            mshio::parse_msh_bytes(bytes).map_err(|e| MeshError::Parse(without_dump(&e.to_string())))
         })
         .map_err(|_| MeshError::Parse("the MSH reader stopped on a malformed header".into()))??;
         let names = physical_names(bytes)?;
-        build(&parsed, &names)
+        build(&parsed, &names, &tags)
     }
+}
+
+/// `mshio`'s message without the hex dump of the rest of the file it appends (megabytes for a
+/// large mesh), cut to its first 300 bytes.
+fn without_dump(message: &str) -> String {
+    let kept = message.split("Hex dump").next().unwrap_or_default().trim_end();
+    let cut = (0..=kept.len().min(300))
+        .rev()
+        .find(|&i| kept.is_char_boundary(i))
+        .unwrap_or(0);
+    kept[..cut].replace('\n', " ").replace('\t', "")
 }
 
 /// (dim, physical tag) → name, from the `$PhysicalNames` section (text in both encodings).
@@ -111,6 +127,7 @@ struct RawElements {
 fn build(
     file: &MshFile<u64, i32, f64>,
     names: &HashMap<(usize, i32), String>,
+    tags: &[u64],
 ) -> Result<UnstructuredMesh, MeshError> {
     let nodes = file
         .data
@@ -123,7 +140,7 @@ fn build(
         .as_ref()
         .ok_or(MeshError::MissingSection("$Elements"))?;
 
-    let raw_nodes = read_nodes(nodes)?;
+    let raw_nodes = read_nodes(nodes, tags)?;
     let index: HashMap<u64, usize> = raw_nodes.iter().enumerate().map(|(i, &(t, _))| (t, i)).collect();
     let entity_groups = entity_groups(file);
     let mut raw = read_elements(elements, &index)?;
@@ -157,28 +174,28 @@ fn build(
     Ok(mesh)
 }
 
-/// The nodes of the `$Nodes` section, by ascending tag; a tag defined twice is an error. With
-/// dense tags mshio drops them and numbers the nodes in file order from the smallest tag, as Gmsh
-/// writes them.
-fn read_nodes(nodes: &Nodes<u64, i32, f64>) -> Result<Vec<RawNode>, MeshError> {
-    let mut raw_nodes: Vec<RawNode> = Vec::with_capacity(nodes.num_nodes as usize);
-    let mut next_tag = nodes.min_node_tag;
-    for block in &nodes.node_blocks {
-        let tags: Option<Vec<u64>> = block.node_tags.as_ref().map(|map| {
-            let mut t = vec![0; block.nodes.len()];
-            for (&tag, &i) in map {
-                t[i] = tag;
-            }
-            t
+/// The nodes of the `$Nodes` section, by ascending tag: `tags` are the file's, in file order (as
+/// `scan` read them, checked in range and unique), which `mshio` drops when the header's range is
+/// dense. A non-finite coordinate is an error naming the node.
+fn read_nodes(nodes: &Nodes<u64, i32, f64>, tags: &[u64]) -> Result<Vec<RawNode>, MeshError> {
+    let coordinates = nodes.node_blocks.iter().flat_map(|b| b.nodes.iter());
+    if coordinates.clone().count() != tags.len() {
+        return Err(MeshError::Parse(format!(
+            "$Nodes holds {} nodes for {} tags",
+            coordinates.count(),
+            tags.len()
+        )));
+    }
+    let mut raw_nodes: Vec<RawNode> = tags
+        .iter()
+        .zip(coordinates)
+        .map(|(&tag, n)| (tag, [n.x, n.y, n.z]))
+        .collect();
+    if let Some(&(node, _)) = raw_nodes.iter().find(|(_, x)| !x.iter().all(|c| c.is_finite())) {
+        return Err(MeshError::NonFiniteNode {
+            node,
+            at: "$Nodes".into(),
         });
-        for (i, n) in block.nodes.iter().enumerate() {
-            let tag = match &tags {
-                Some(t) => t[i],
-                None => next_tag + i as u64,
-            };
-            raw_nodes.push((tag, [n.x, n.y, n.z]));
-        }
-        next_tag += block.nodes.len() as u64;
     }
     raw_nodes.sort_by_key(|&(t, _)| t);
     if let Some(w) = raw_nodes.windows(2).find(|w| w[0].0 == w[1].0) {
