@@ -20,6 +20,7 @@
 
 mod chains;
 mod error;
+mod located;
 mod query;
 mod read;
 mod scan;

@@ -7,13 +7,8 @@
 //! range is dense, and the reader numbers the nodes with these instead (docs/meshes.md).
 
 use super::MeshError;
+use super::located::{Tag, quote};
 use super::scan_binary::binary_node_tags;
-
-/// At most this many bytes of a line are quoted in an error.
-const QUOTE_BYTES: usize = 64;
-
-/// A node tag as read, with the line (ASCII) or byte offset (binary) where it stands.
-pub(super) type Tag = (u64, usize);
 
 /// The node tags of the file in file order, once its structure is checked.
 pub(super) fn node_tags(bytes: &[u8]) -> Result<Vec<u64>, MeshError> {
@@ -32,16 +27,6 @@ pub(super) fn node_tags(bytes: &[u8]) -> Result<Vec<u64>, MeshError> {
     };
     check_tags(&tags.0, tags.1, binary)?;
     Ok(tags.0.into_iter().map(|(t, _)| t).collect())
-}
-
-/// At most [`QUOTE_BYTES`] of `text`, cut on a character boundary, with "…" when cut.
-pub(super) fn quote(text: &[u8]) -> String {
-    let s = String::from_utf8_lossy(&text[..text.len().min(QUOTE_BYTES)]).into_owned();
-    if text.len() > QUOTE_BYTES {
-        format!("{}…", s.trim_end_matches('\u{FFFD}'))
-    } else {
-        s
-    }
 }
 
 /// The file split into lines (without their `\n` and `\r`), numbered from 1.

@@ -3,7 +3,7 @@
 //! `$EndNodes`.
 
 use super::MeshError;
-use super::scan::Tag;
+use super::located::{Tag, quote};
 
 /// A cursor on the bytes of the file.
 struct Cursor<'a> {
@@ -106,7 +106,7 @@ pub(super) fn binary_node_tags(
             section: "$Nodes".into(),
             at: format!("byte {}", c.at),
             expected: "$EndNodes".into(),
-            found: super::scan::quote(&rest[..rest.len().min(16)]),
+            found: quote(&rest[..rest.len().min(16)]),
         });
     }
     Ok((tags, range))
