@@ -56,31 +56,22 @@ fn a_stopped_study_keeps_the_output_of_its_current_run() {
 /// and exits non-zero instead of running every point to the end.
 #[test]
 fn a_terminated_sweep_stops_its_point_and_says_where_its_output_went() {
-    use std::io::{BufRead, BufReader};
-    use std::process::{Command, Stdio};
+    use preflight::testing::{signalled, started};
+    use std::process::Command;
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("compare-interrupt-sweep");
     let _ = std::fs::remove_dir_all(&dir);
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/center-crack.toml");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_compare"))
-        .args(["sweep", "--sizes", "1e-3", "--scene"])
-        .arg(&scene)
-        .arg("--out")
-        .arg(&dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let (child, plan) = started(
+        Command::new(env!("CARGO_BIN_EXE_compare"))
+            .args(["sweep", "--sizes", "1e-3", "--scene"])
+            .arg(&scene)
+            .arg("--out")
+            .arg(&dir),
+    );
     // the plan line comes once every check has passed, just before the first point starts
-    let mut plan = String::new();
-    BufReader::new(child.stdout.as_mut().unwrap())
-        .read_line(&mut plan)
-        .unwrap();
     assert!(plan.contains("runs"), "{plan}");
     std::thread::sleep(std::time::Duration::from_millis(2000));
-    let pid = libc::pid_t::try_from(child.id()).unwrap();
-    // SAFETY: kill(2) with a valid signal number on our own child's pid has no memory effects.
-    assert_eq!(unsafe { libc::kill(pid, libc::SIGTERM) }, 0);
-    let out = child.wait_with_output().unwrap();
+    let out = signalled(child, &[libc::SIGTERM]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "the sweep ran on: {stderr}");
     assert!(

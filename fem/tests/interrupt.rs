@@ -1,34 +1,25 @@
 //! SIGTERM (as Ctrl-C) stops a run at its next step: the command writes what it has computed,
 //! says where, and exits non-zero; the records end before T and parse.
 
-use std::io::{BufRead, BufReader};
+use preflight::testing::{signalled, started};
 use std::path::Path;
-use std::process::{Command, Stdio};
+use std::process::Command;
 
 #[test]
 fn a_terminated_run_keeps_parseable_output_and_says_so() {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("fem-interrupt");
     let _ = std::fs::remove_dir_all(&dir);
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/center-crack.toml");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_fem"))
-        .arg(&scene)
-        .arg("--out")
-        .arg(&dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let (child, first) = started(
+        Command::new(env!("CARGO_BIN_EXE_fem"))
+            .arg(&scene)
+            .arg("--out")
+            .arg(&dir),
+    );
     // the plan line is printed once every check has passed, just before the first step
-    let mut first = String::new();
-    BufReader::new(child.stdout.as_mut().unwrap())
-        .read_line(&mut first)
-        .unwrap();
     assert!(first.contains("steps"), "{first}");
     std::thread::sleep(std::time::Duration::from_millis(1500));
-    let pid = libc::pid_t::try_from(child.id()).unwrap();
-    // SAFETY: kill(2) with a valid signal number on our own child's pid has no memory effects.
-    assert_eq!(unsafe { libc::kill(pid, libc::SIGTERM) }, 0);
-    let out = child.wait_with_output().unwrap();
+    let out = signalled(child, &[libc::SIGTERM]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success());
     assert!(
@@ -68,25 +59,14 @@ fn two_signals_at_once_stop_the_run_and_keep_its_output() {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("fem-interrupt-twice");
     let _ = std::fs::remove_dir_all(&dir);
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/center-crack.toml");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_fem"))
-        .arg(&scene)
-        .arg("--out")
-        .arg(&dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut first = String::new();
-    BufReader::new(child.stdout.as_mut().unwrap())
-        .read_line(&mut first)
-        .unwrap();
+    let (child, _) = started(
+        Command::new(env!("CARGO_BIN_EXE_fem"))
+            .arg(&scene)
+            .arg("--out")
+            .arg(&dir),
+    );
     std::thread::sleep(std::time::Duration::from_millis(1000));
-    let pid = libc::pid_t::try_from(child.id()).unwrap();
-    // SAFETY: kill(2) with a valid signal number on our own child's pid has no memory effects.
-    assert_eq!(unsafe { libc::kill(pid, libc::SIGTERM) }, 0);
-    // SAFETY: as above.
-    assert_eq!(unsafe { libc::kill(pid, libc::SIGINT) }, 0);
-    let out = child.wait_with_output().unwrap();
+    let out = signalled(child, &[libc::SIGTERM, libc::SIGINT]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success());
     assert!(

@@ -2,9 +2,9 @@
 //! is refused before any work, naming the other run's process, and the first run's files are
 //! its own.
 
-use std::io::{BufRead, BufReader};
+use preflight::testing::{signalled, started};
 use std::path::Path;
-use std::process::{Command, Stdio};
+use std::process::Command;
 
 #[test]
 fn a_second_run_into_a_busy_folder_is_refused_naming_the_first() {
@@ -16,15 +16,7 @@ fn a_second_run_into_a_busy_folder_is_refused_naming_the_first() {
         c.arg(&scene).arg("--out").arg(&dir);
         c
     };
-    let mut first = fem()
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut line = String::new();
-    BufReader::new(first.stdout.as_mut().unwrap())
-        .read_line(&mut line)
-        .unwrap();
+    let (first, line) = started(&mut fem());
     assert!(line.contains("steps"), "{line}");
     let second = fem().output().unwrap();
     let stderr = String::from_utf8_lossy(&second.stderr);
@@ -34,10 +26,7 @@ fn a_second_run_into_a_busy_folder_is_refused_naming_the_first() {
         stderr.contains("in use") && stderr.contains(&format!("process {}", first.id())),
         "{stderr}"
     );
-    let pid = libc::pid_t::try_from(first.id()).unwrap();
-    // SAFETY: kill(2) with a valid signal number on our own child's pid has no memory effects.
-    assert_eq!(unsafe { libc::kill(pid, libc::SIGTERM) }, 0);
-    let out = first.wait_with_output().unwrap();
+    let out = signalled(first, &[libc::SIGTERM]);
     assert!(!out.status.success());
     // the lock is released with the run: the folder takes the next run
     assert_eq!(std::fs::read_to_string(dir.join(".run.lock")).unwrap(), "");

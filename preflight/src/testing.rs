@@ -3,8 +3,9 @@
 //! any time step — non-zero exit, nothing on stdout (every command prints its plan only once its
 //! checks have passed), no output folder.
 
+use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Child, Command, Output, Stdio};
 
 /// The text of `scenes/<name>.toml` of the workspace whose member lives at `manifest_dir`.
 pub fn scene_text(manifest_dir: &str, name: &str) -> String {
@@ -59,4 +60,27 @@ impl Trial {
         assert!(!self.out.exists(), "the output folder was created: {stderr}");
         stderr
     }
+}
+
+/// `cmd` started with stdout and stderr piped, once it has printed its first line on stdout (its
+/// plan: every command prints it when all its checks have passed, just before its first step);
+/// the running child and that line.
+pub fn started(cmd: &mut Command) -> (Child, String) {
+    let mut child = cmd.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    let mut line = String::new();
+    BufReader::new(child.stdout.as_mut().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    (child, line)
+}
+
+/// Sends `signals` (`libc::SIGTERM`, `libc::SIGINT`, ...) to `child`, one right after the other,
+/// and waits for its output.
+pub fn signalled(child: Child, signals: &[libc::c_int]) -> Output {
+    let pid = libc::pid_t::try_from(child.id()).unwrap();
+    for &signal in signals {
+        // SAFETY: kill(2) with a valid signal number on our own child's pid has no memory effects.
+        assert_eq!(unsafe { libc::kill(pid, signal) }, 0);
+    }
+    child.wait_with_output().unwrap()
 }
