@@ -152,24 +152,45 @@ fn geometry(f: &RawFem, crack: Option<&Crack>) -> Result<(), SceneError> {
     Ok(())
 }
 
-/// The checks of `[fem]` that do not depend on the pre-crack or on a mesh: run alone when
-/// `[crack]` is refused, so that the problems of `[fem]` are reported with those of the shared
-/// tables instead of after they are fixed. (With `[fem.mesh]` the form is completed from the mesh
-/// first, which needs a valid crack; such a scene waits for its crack.)
-pub(crate) fn check_fem_alone(f: &RawFem, duration: f64, errors: &mut Vec<SceneError>) {
-    if f.mesh.is_some() {
-        return;
-    }
-    keep(errors, geometry(f, None));
-    keep(errors, options(f));
-    keep(errors, damping(f));
-    keep(errors, step_and_penalties(f, duration));
-    keep(errors, contact_distances(f));
+/// What the checks of `[fem]` that need neither the pre-crack nor the mesh give (each `None`
+/// when refused, its problem added to the errors).
+struct Standalone {
+    options: Option<(ModelKind, InsertionRule)>,
+    damping: Option<Damping>,
+    steps: Option<(f64, f64, f64)>,
+    distances: Option<(f64, f64)>,
+    t_star: f64,
+    diagnostics: Option<Diagnostics>,
+    probes: Option<Vec<[f64; 2]>>,
+    paraview: Option<Option<ParaviewSpec>>,
+}
+
+/// The checks of `[fem]` that need neither the pre-crack nor the mesh, over the form `f` (with
+/// a mesh, the form completed from it).
+fn standalone(f: &RawFem, duration: f64, errors: &mut Vec<SceneError>) -> Standalone {
     let t_star = f.t_star.unwrap_or(0.0);
     keep(errors, check("fem.t_star", t_star, t_star >= 0.0, ">= 0 s"));
-    keep(errors, diagnostics(f, duration));
-    keep(errors, probes(f));
-    keep(errors, paraview(f, duration));
+    Standalone {
+        options: keep(errors, options(f)),
+        damping: keep(errors, damping(f)),
+        steps: keep(errors, step_and_penalties(f, duration)),
+        distances: keep(errors, contact_distances(f)),
+        t_star,
+        diagnostics: keep(errors, diagnostics(f, duration)),
+        probes: keep(errors, probes(f)),
+        paraview: keep(errors, paraview(f, duration)),
+    }
+}
+
+/// The checks of `[fem]` run when `[crack]` is refused, so that the problems of `[fem]` are
+/// reported with those of the shared tables instead of after they are fixed: the grid's own and
+/// [`standalone`]. (With `[fem.mesh]` the form is completed from the mesh first, which needs a
+/// valid crack; such a scene waits for its crack.)
+pub(crate) fn check_fem_alone(f: &RawFem, duration: f64, errors: &mut Vec<SceneError>) {
+    if f.mesh.is_none() {
+        keep(errors, geometry(f, None));
+        standalone(f, duration, errors);
+    }
 }
 
 /// Validates `[fem]` against the pre-crack and the duration T [s], adding every problem found to
@@ -195,12 +216,16 @@ pub(crate) fn validate_fem(
         None => keep(errors, geometry(f, crack)).is_some(),
         Some(m) => keep(errors, mesh_boundary(f, crack, m)).is_some(),
     };
-    let options = keep(errors, options(f));
-    let damping = keep(errors, damping(f));
-    let steps = keep(errors, step_and_penalties(f, duration));
-    let distances = keep(errors, contact_distances(f));
-    let t_star = f.t_star.unwrap_or(0.0);
-    keep(errors, check("fem.t_star", t_star, t_star >= 0.0, ">= 0 s"));
+    let Standalone {
+        options,
+        damping,
+        steps,
+        distances,
+        t_star,
+        diagnostics,
+        probes,
+        paraview,
+    } = standalone(f, duration, errors);
     let blocks = keep(errors, blocks_and_boundary(f, crack, duration));
     if let (Some(m), Some((_, Some(b))), true) = (&mesh, &blocks, geometry_ok) {
         keep(errors, kinds_fit_parts(b, m));
@@ -214,12 +239,9 @@ pub(crate) fn validate_fem(
             zones_hold_facets(z, &cohesive_centres(f, crack, mesh.as_ref())),
         );
     }
-    let diagnostics = keep(errors, diagnostics(f, duration));
-    let probes = keep(errors, probes(f));
     if let (Some(m), Some(p), true) = (&mesh, &probes, geometry_ok) {
         keep(errors, probes_in_body(p, m));
     }
-    let paraview = keep(errors, paraview(f, duration));
     let rough = rough(f, errors);
     let polyline = match (geometry_ok, &blocks, &mesh, rough) {
         (true, Some((upper_offset, _)), None, Some(rough)) => {
