@@ -2,7 +2,7 @@
 //! `cargo run -p compare`) and the other jobs that run in one process, each with the tables read
 //! back from the files it wrote.
 
-use crate::run::{Progress, drive};
+use crate::run::{Progress, budget, drive};
 use crate::scene::Scene;
 use compare::gate::metrics::PAPER_RESOLUTION;
 use compare::runner::Reporter;
@@ -145,11 +145,7 @@ pub(crate) fn job(
             "job = {job:?}: one of \"gate\", \"converged\", \"penalty\", \"boundary\", \"sinusoid\", \"rough\""
         )));
     }
-    if !(max_memory_gib.is_finite() && max_memory_gib > 0.0) {
-        return Err(PyValueError::new_err(format!(
-            "max_memory_gib = {max_memory_gib}: a memory budget is a finite number of GiB > 0"
-        )));
-    }
+    let limits = budget(max_memory_gib, max_steps)?;
     if let Some(v) = &values {
         let key = if job == "penalty" { "factors" } else { "boxes" };
         if !matches!(job, "penalty" | "boundary") {
@@ -197,7 +193,7 @@ pub(crate) fn job(
         return Err(PyValueError::new_err("concurrent_runs = 0: at least 1"));
     }
     study.concurrent_runs = concurrent_runs;
-    study.budget = preflight::Budget::new(max_memory_gib, max_steps);
+    study.budget = limits;
     let keep = out.is_some();
     let tmp;
     let dir = match out {

@@ -178,7 +178,7 @@ pub(crate) fn drive<T: Send>(
 }
 
 /// The budget of a run, refused if not a positive number.
-fn budget(max_memory_gib: f64, max_steps: u64) -> PyResult<preflight::Budget> {
+pub(crate) fn budget(max_memory_gib: f64, max_steps: u64) -> PyResult<preflight::Budget> {
     if !(max_memory_gib.is_finite() && max_memory_gib > 0.0) {
         return Err(PyValueError::new_err(format!(
             "max_memory_gib = {max_memory_gib}: a memory budget is a finite number of GiB > 0"
