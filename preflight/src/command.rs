@@ -21,6 +21,11 @@ pub struct Prepared<S> {
     pub removed: usize,
     /// The folder, held for this run: keep it until the output is written.
     pub claim: crate::paths::Claim,
+    /// The checkpoint this run continues from (`--resume`), checked against the scene.
+    pub resumed: Option<crate::checkpoint::Resumed>,
+    /// The writer of this run's checkpoints (`--checkpoint-every`, or the interval of the run a
+    /// resumed run continues).
+    pub checkpoints: Option<crate::checkpoint::Writer>,
 }
 
 impl<S> Prepared<S> {
@@ -35,8 +40,16 @@ impl<S> Prepared<S> {
             self.out_dir.display(),
             crate::paths::removed_note(self.removed)
         );
-        if let Some(note) = self.claim.taken_over() {
-            eprintln!("warning: {note}");
+        match &self.resumed {
+            Some(r) => println!("{}", r.summary()),
+            None => {
+                if let Some(note) = self.claim.taken_over() {
+                    eprintln!("warning: {note}");
+                }
+            }
+        }
+        if let Some(w) = &self.checkpoints {
+            println!("{}", w.plan());
         }
     }
 }
@@ -67,6 +80,8 @@ pub enum SetUpError {
     },
     /// The output folder or the Ctrl-C handler is refused.
     Refused(String),
+    /// A file the scene reads (a mesh) cannot be read for the checkpoint's record of it.
+    Input(std::io::Error),
     /// An earlier run's files cannot be removed from the output folder.
     Clear {
         /// The output folder.
@@ -83,6 +98,7 @@ impl fmt::Display for SetUpError {
             SetUpError::Scene { path, .. } => write!(f, "scene {}", path.display()),
             SetUpError::Budget { path, message } => write!(f, "scene {}: {message}", path.display()),
             SetUpError::Refused(m) => write!(f, "{m}"),
+            SetUpError::Input(e) => write!(f, "{e}"),
             SetUpError::Clear { dir, .. } => write!(
                 f,
                 "output folder {}: removing the previous run's files",
@@ -97,25 +113,41 @@ impl Error for SetUpError {
         match self {
             SetUpError::Read { source, .. } | SetUpError::Clear { source, .. } => Some(source),
             SetUpError::Scene { source, .. } => Some(&**source),
-            SetUpError::Budget { .. } | SetUpError::Refused(_) => None,
+            SetUpError::Budget { .. } | SetUpError::Refused(_) | SetUpError::Input(_) => None,
         }
     }
 }
 
+/// A model's own steps in [`prepare`].
+pub struct ModelSteps<Read, Inputs, Est, Clear> {
+    /// Reads the scene from its text and the scene file's folder (where relative paths in it
+    /// start).
+    pub read: Read,
+    /// The files the scene reads besides itself (a mesh), which a checkpoint records.
+    pub inputs: Inputs,
+    /// Estimates the run.
+    pub estimate: Est,
+    /// Removes an earlier run's files from a folder and says how many.
+    pub clear_previous: Clear,
+}
+
 /// Everything a command checks before its run, in this order, stopping at the first refusal:
-/// reads `scene_path`, validates it, chooses the output folder (`--out` or
+/// reads `scene_path`, validates it, chooses the output folder (`--resume`, `--out` or
 /// `out/<model>-<scene name>`), checks the estimate against the budget, claims the folder for
-/// `model` (locked against any other run until [`Prepared::claim`] is dropped) and removes an
-/// earlier run's files from it (one run per folder: they would stand beside this one's). The model's own steps: `read` the scene from its text and the scene file's
-/// folder (where relative paths in it start), `estimate` the run, `clear_previous` removes an
-/// earlier run's files from a folder and says how many.
+/// `model` (locked against any other run until [`Prepared::claim`] is dropped), then either
+/// reads the checkpoint to resume and checks it against the scene and its input files
+/// (`--resume`), or removes an earlier run's files from the folder (one run per folder: they
+/// would stand beside this one's), its checkpoint included. `steps` are the model's own.
 pub fn prepare<S, ReadErr, EstimateErr>(
     model: &str,
     scene_path: &Path,
     options: &RunOptions,
-    read: impl FnOnce(&str, &Path) -> Result<S, ReadErr>,
-    estimate: impl FnOnce(&S) -> Result<Estimate, EstimateErr>,
-    clear_previous: impl FnOnce(&Path) -> std::io::Result<usize>,
+    steps: ModelSteps<
+        impl FnOnce(&str, &Path) -> Result<S, ReadErr>,
+        impl FnOnce(&S) -> Vec<PathBuf>,
+        impl FnOnce(&S) -> Result<Estimate, EstimateErr>,
+        impl FnOnce(&Path) -> std::io::Result<usize>,
+    >,
 ) -> Result<Prepared<S>, SetUpError>
 where
     ReadErr: Error + Send + Sync + 'static,
@@ -132,9 +164,9 @@ where
             source,
         })?;
     let dir = scene_path.parent().unwrap_or(Path::new("."));
-    let scene = read(&text, dir).map_err(|e| invalid(Box::new(e)))?;
+    let scene = (steps.read)(&text, dir).map_err(|e| invalid(Box::new(e)))?;
     let out_dir = options.out_dir(model, scene_path).map_err(SetUpError::Refused)?;
-    let estimate = estimate(&scene).map_err(|e| invalid(Box::new(e)))?;
+    let estimate = (steps.estimate)(&scene).map_err(|e| invalid(Box::new(e)))?;
     options
         .budget
         .budget()
@@ -144,16 +176,48 @@ where
             message,
         })?;
     let claim = crate::paths::claim(&out_dir, model).map_err(SetUpError::Refused)?;
-    let removed = clear_previous(&out_dir).map_err(|source| SetUpError::Clear {
-        dir: out_dir.clone(),
-        source,
-    })?;
+    let inputs = (steps.inputs)(&scene)
+        .iter()
+        .map(|p| crate::checkpoint::Input::of(p))
+        .collect::<std::io::Result<Vec<_>>>()
+        .map_err(SetUpError::Input)?;
+    let header = crate::checkpoint::Header {
+        model: model.to_string(),
+        version: env!("CARGO_PKG_VERSION").to_string(),
+        scene: text,
+        inputs,
+        every_s: 0.0,
+        step: 0,
+        time_s: 0.0,
+        total_steps: estimate.steps,
+    };
+    let (removed, resumed) = match options.resume {
+        Some(_) => {
+            let resumed = crate::checkpoint::read(&out_dir, &header).map_err(SetUpError::Refused)?;
+            (0, Some(resumed))
+        }
+        None => {
+            let clear = |source| SetUpError::Clear {
+                dir: out_dir.clone(),
+                source,
+            };
+            let removed = (steps.clear_previous)(&out_dir).map_err(clear)?;
+            let stale = crate::paths::remove_files([out_dir.join(crate::checkpoint::FILE)]).map_err(clear)?;
+            (removed + stale, None)
+        }
+    };
+    let every = options
+        .checkpoint_every
+        .or_else(|| resumed.as_ref().map(|r| r.header.every_s).filter(|&s| s > 0.0));
+    let checkpoints = every.map(|s| crate::checkpoint::Writer::new(&out_dir, s, header));
     Ok(Prepared {
         scene,
         estimate,
         out_dir,
         removed,
         claim,
+        resumed,
+        checkpoints,
     })
 }
 
@@ -204,6 +268,8 @@ mod tests {
                 max_memory: 1.0,
                 max_steps: 10,
             },
+            checkpoint_every: None,
+            resume: None,
         }
     }
 
@@ -229,9 +295,12 @@ mod tests {
                 "m",
                 &scene,
                 &options(&out),
-                |t: &str, _: &Path| t.parse::<u64>(),
-                move |_: &u64| Ok::<_, std::convert::Infallible>(costing(n)),
-                |_: &Path| Ok(2),
+                ModelSteps {
+                    read: |t: &str, _: &Path| t.parse::<u64>(),
+                    inputs: |_: &u64| Vec::new(),
+                    estimate: move |_: &u64| Ok::<_, std::convert::Infallible>(costing(n)),
+                    clear_previous: |_: &Path| Ok(2),
+                },
             )
         };
         let missing = run(1).unwrap_err();

@@ -7,6 +7,7 @@
 //! - [`paths`]: output folders that stay where they are asked to be, and are writable before any
 //!   work;
 //! - [`save`]: files written whole or not at all, never through a symbolic link;
+//! - [`checkpoint`]: a run's complete state, from which a killed run resumes;
 //! - [`ended`]: how a run ended (reached T, unstable, stopped on request), in one form for both
 //!   models' command lines and the harness;
 //! - [`stop`], [`options`] and [`command`] (feature `cli`): Ctrl-C and SIGTERM stop a run at its
@@ -15,6 +16,7 @@
 #![warn(missing_docs)]
 
 pub mod budget;
+pub mod checkpoint;
 #[cfg(feature = "cli")]
 pub mod command;
 pub mod ended;

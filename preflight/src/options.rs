@@ -42,13 +42,32 @@ pub struct RunOptions {
     /// The budget of the run.
     #[command(flatten)]
     pub budget: BudgetOptions,
+    /// Writes the run's complete state to checkpoint.bin in its output folder every SECONDS of
+    /// wall time (atomically), and when it is stopped (Ctrl-C, SIGTERM), so that `--resume`
+    /// continues it after a kill. A run that reaches its end removes it.
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true, value_parser = parse_seconds)]
+    pub checkpoint_every: Option<f64>,
+    /// Continues the run whose output folder is DIR from its checkpoint, with the scene it was
+    /// started with; its output is the same, byte for byte, as if it had never stopped.
+    /// Checkpoints go on at the interval of the first run unless --checkpoint-every is given.
+    #[arg(long, value_name = "DIR", conflicts_with = "out")]
+    pub resume: Option<PathBuf>,
+}
+
+/// `--checkpoint-every`: a finite number of seconds > 0.
+fn parse_seconds(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(t) if t.is_finite() && t > 0.0 => Ok(t),
+        Ok(t) => Err(format!("{t} s: give a finite number of seconds > 0")),
+        Err(e) => Err(format!("{s:?}: {e}")),
+    }
 }
 
 impl RunOptions {
-    /// `--out` if given (refused when empty), else `out/<model>-<scene file name>` with the name
+    /// `--resume` if given, else `--out` if given (refused when empty), else `out/<model>-<scene file name>` with the name
     /// made safe ([`crate::paths::folder_name`]).
     pub fn out_dir(&self, model: &str, scene: &Path) -> Result<PathBuf, String> {
-        match &self.out {
+        match self.resume.as_ref().or(self.out.as_ref()) {
             Some(dir) => crate::paths::explicit(dir).map(Path::to_path_buf),
             None => {
                 let stem = scene

@@ -34,7 +34,7 @@ pub fn folder_name(name: &str) -> String {
 
 /// FNV-1a, 64 bits: a fixed, portable hash (the same folder name on every machine and Rust
 /// version, unlike std's `DefaultHasher`).
-fn fnv1a(bytes: &[u8]) -> u64 {
+pub(crate) fn fnv1a(bytes: &[u8]) -> u64 {
     bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
         (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
     })

@@ -38,9 +38,12 @@ fn run() -> anyhow::Result<()> {
         "fem",
         &cli.scene,
         &cli.run,
-        fem::Scene::from_toml_str_in,
-        |scene| Ok::<_, Infallible>(fem::estimate(scene)),
-        fem::output::clear_previous,
+        preflight::command::ModelSteps {
+            read: fem::Scene::from_toml_str_in,
+            inputs: |scene: &fem::Scene| scene.fem.mesh.iter().map(|m| m.file.clone()).collect(),
+            estimate: |scene: &fem::Scene| Ok::<_, Infallible>(fem::estimate(scene)),
+            clear_previous: fem::output::clear_previous,
+        },
     )?;
     let mut fields = match prepared.scene.fem.paraview {
         Some(_) => Some(

@@ -37,9 +37,12 @@ fn run() -> anyhow::Result<()> {
         "spectral",
         scene_path,
         &cli.run,
-        |text, _| spectral::Scene::from_toml_str(text),
-        spectral::estimate,
-        spectral::output::clear_previous,
+        preflight::command::ModelSteps {
+            read: |text: &str, _: &Path| spectral::Scene::from_toml_str(text),
+            inputs: |_: &spectral::Scene| Vec::new(),
+            estimate: spectral::estimate,
+            clear_previous: spectral::output::clear_previous,
+        },
     )?;
     let stop = preflight::stop::on_signal().map_err(|e| anyhow!(e))?;
     for w in prepared.scene.warnings() {
