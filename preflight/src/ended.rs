@@ -4,7 +4,7 @@
 
 /// How a run ended, as its output files say it (`status` in the FE model's `run.csv` and the
 /// spectral model's `stats.csv`): a reader tells a partial run from a finished one by it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Status {
     /// It reached T.
