@@ -332,7 +332,7 @@ pub fn run<M: Model>(job: Job<M>, rep: &dyn Reporter) -> Result<Finished<M::Outp
             ..
         } => {
             return Err(anyhow::anyhow!(
-                "field snapshot at step {step}, t = {time_s} s not written: {message}"
+                "output at step {step}, t = {time_s} s not written: {message}"
             ))
             .context(label.to_string());
         }

@@ -174,19 +174,22 @@ pub enum RunError {
         /// Output recorded up to there: the samples taken before the stop.
         partial: Box<RunOutput>,
     },
-    /// A ParaView snapshot could not be written (disk full, folder removed, ...): the run stops
-    /// at once. `partial` holds what was computed so far.
-    #[error("field snapshot at step {step}, t = {time_s} s not written: {message}")]
+    /// A ParaView snapshot or a checkpoint could not be written (disk full, folder removed, ...):
+    /// the run stops at once. `partial` holds what was computed so far.
+    #[error("output at step {step}, t = {time_s} s not written: {message}")]
     FieldOutput {
-        /// Step of the snapshot.
+        /// Step of the output.
         step: u64,
         /// Its time [s].
         time_s: f64,
-        /// What failed.
+        /// What failed: `field snapshot: …` or `checkpoint: …`, naming the file.
         message: String,
         /// Output recorded up to there.
         partial: Box<RunOutput>,
     },
+    /// The checkpoint to resume from does not fit this model (checked before the first step).
+    #[error("resuming: {0}")]
+    Resume(String),
 }
 
 /// A number for a message: as written for ordinary magnitudes (`0.25`, `70000000`), in scientific

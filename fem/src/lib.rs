@@ -70,4 +70,4 @@ pub use scene::Scene;
 pub use scene::write_msh::grid_as_msh;
 pub use solver::central_difference::step;
 pub use solver::estimate::estimate;
-pub use solver::run::{ended, run, run_with_fields, run_with_progress};
+pub use solver::run::{ended, run, run_checkpointed, run_with_fields, run_with_progress};

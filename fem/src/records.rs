@@ -4,10 +4,10 @@
 
 pub mod fields;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// One sample of the crack-tip history; positions are x coordinates [m], time t [s].
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 pub struct TipRecord {
     /// Time [s].
     pub t: f64,
@@ -24,7 +24,7 @@ pub struct TipRecord {
 /// The cracked extent of one interface chain at one sample: what a crack-growth history needs on
 /// any interface network, with or without a pre-crack. Each of a cohesive facet's two Gauss points
 /// stands for half of the facet's reference length; pre-crack facets are not counted.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 pub struct CrackRecord {
     /// Time [s].
     pub t: f64,
@@ -49,7 +49,7 @@ pub struct CrackRecord {
 /// a damaged ligament share them). A pre-crack facet counts as broken from end to end, a cohesive
 /// facet by its two Gauss points. Coordinates are the chain's own (x on the built-in grids); on
 /// a closed chain a run across the chain's first node has its start beyond its end.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 pub struct CrackTipRecord {
     /// Time [s].
     pub t: f64,
@@ -70,7 +70,7 @@ pub struct CrackTipRecord {
 
 /// The displacement of one part of `[fem.boundary]` (a side, curve or point) and the force its
 /// conditions apply to the body, at one sample: a load–displacement curve for any part.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 pub struct BoundaryRecord {
     /// Time [s].
     pub t: f64,
@@ -91,7 +91,7 @@ pub struct BoundaryRecord {
 }
 
 /// Damage at one interface Gauss point.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 pub struct InterfaceRecord {
     /// Time [s].
     pub t: f64,
@@ -108,7 +108,7 @@ pub struct InterfaceRecord {
 }
 
 /// Contact state of one node of the upper face (Γ1 ∪ Γ⁺coh).
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 pub struct FaceRecord {
     /// Time [s].
     pub t: f64,
@@ -127,7 +127,7 @@ pub struct FaceRecord {
 }
 
 /// Means over the contacting nodes of the upper face (Figs. 6c, D.15).
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 pub struct ContactMeanRecord {
     /// Time [s].
     pub t: f64,
@@ -145,7 +145,7 @@ pub struct ContactMeanRecord {
 }
 
 /// Energies [J/m] (docs/fem-model.md §8.3), measured from t = 0.
-#[derive(Debug, Clone, Copy, Default, Serialize)]
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize)]
 pub struct EnergyRecord {
     /// Time [s].
     pub t: f64,
@@ -176,7 +176,7 @@ pub struct EnergyRecord {
 }
 
 /// Insertion and failure time of one interface Gauss point.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 pub struct ArrivalRecord {
     /// Reference x [m].
     pub x: f64,
@@ -193,7 +193,7 @@ pub struct ArrivalRecord {
 }
 
 /// Displacement and velocity of a probe node.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 pub struct ProbeRecord {
     /// Time [s].
     pub t: f64,
@@ -214,7 +214,7 @@ pub struct ProbeRecord {
 }
 
 /// Residual stress of paper eq. (17) at one sample.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 pub struct ResidualStressRecord {
     /// Time [s].
     pub t: f64,
@@ -223,7 +223,7 @@ pub struct ResidualStressRecord {
 }
 
 /// Contact (KKT) conditions on the crack faces of the contact surface at one sample.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 pub struct KktRecord {
     /// Time [s].
     pub t: f64,
@@ -249,7 +249,7 @@ pub struct KktRecord {
 }
 
 /// Element stresses at a snapshot (averages of the four Gauss points).
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 pub struct FieldRecord {
     /// Snapshot index in `snapshot_times`.
     pub snapshot: usize,
@@ -268,7 +268,7 @@ pub struct FieldRecord {
 }
 
 /// One node of the upper face of the contact surface at a snapshot (paper Figure 11).
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 pub struct ProfileRecord {
     /// Snapshot index in `snapshot_times`.
     pub snapshot: usize,
@@ -289,7 +289,7 @@ pub struct ProfileRecord {
 }
 
 /// Friction audit of one slave node at the end of the run (`friction.csv`, runs with μ > 0).
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 pub struct FrictionRecord {
     /// Reference position x [m].
     pub x: f64,
@@ -303,7 +303,7 @@ pub struct FrictionRecord {
 }
 
 /// What a run was: its step, its modelling choices and its energy bill (`run.csv`, one row).
-#[derive(Debug, Clone, Default, Serialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct RunRecord {
     /// Time step [s].
     pub time_step: f64,
@@ -334,8 +334,9 @@ pub struct RunRecord {
     pub last_step: u64,
 }
 
-/// Everything a run produces.
-#[derive(Debug, Clone, Default)]
+/// Everything a run produces. A checkpoint holds it (`solver::checkpoint`), the wall times
+/// aside.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct RunOutput {
     /// Time step [s].
     pub time_step: f64,
@@ -360,14 +361,17 @@ pub struct RunOutput {
     /// Every crack and process zone of every chain per sample, with its tips (with an interface).
     pub crack_tips: Vec<CrackTipRecord>,
     /// Damage per interface Gauss point per sample.
+    #[serde(with = "all_fields")]
     pub interface: Vec<InterfaceRecord>,
     /// Upper-face contact state per node per sample.
+    #[serde(with = "all_fields")]
     pub faces: Vec<FaceRecord>,
     /// Mean contact tractions per sample.
     pub contact: Vec<ContactMeanRecord>,
     /// Energies per sample.
     pub energy: Vec<EnergyRecord>,
     /// Insertion/failure times per interface Gauss point (at the end of the run).
+    #[serde(with = "all_fields")]
     pub arrivals: Vec<ArrivalRecord>,
     /// Friction audit per slave node that ever carried friction (at the end of the run).
     pub friction: Vec<FrictionRecord>,
@@ -389,8 +393,106 @@ pub struct RunOutput {
     /// Times at which the snapshots were taken [s] (first sample at or after each requested time).
     pub snapshot_times: Vec<f64>,
     /// Wall time per phase of the step and the loop (profiling; differs between runs, so it is
-    /// printed, never written).
+    /// printed, never written, and not checkpointed).
+    #[serde(skip)]
     pub profile: Vec<crate::profile::PhaseTime>,
+}
+
+/// The checkpoint form of the records whose `chain` their CSV file leaves out when it is `None`
+/// (`skip_serializing_if`): a checkpoint's form (postcard) has no field names, so it needs every
+/// field, and these records go into it as tuples of all their fields, in order.
+mod all_fields {
+    use serde::de::DeserializeOwned;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    /// A record as the tuple of all its fields.
+    pub(super) trait AsTuple: Sized {
+        type Tuple: Serialize + DeserializeOwned;
+        fn to_tuple(&self) -> Self::Tuple;
+        fn from_tuple(t: Self::Tuple) -> Self;
+    }
+
+    pub(super) fn serialize<S: Serializer, R: AsTuple>(records: &[R], s: S) -> Result<S::Ok, S::Error> {
+        s.collect_seq(records.iter().map(AsTuple::to_tuple))
+    }
+
+    pub(super) fn deserialize<'de, D: Deserializer<'de>, R: AsTuple>(d: D) -> Result<Vec<R>, D::Error> {
+        Ok(Vec::<R::Tuple>::deserialize(d)?
+            .into_iter()
+            .map(R::from_tuple)
+            .collect())
+    }
+}
+
+impl all_fields::AsTuple for InterfaceRecord {
+    type Tuple = (f64, f64, f64, bool, Option<u16>);
+    fn to_tuple(&self) -> Self::Tuple {
+        let InterfaceRecord {
+            t,
+            x,
+            damage,
+            inserted,
+            chain,
+        } = *self;
+        (t, x, damage, inserted, chain)
+    }
+    fn from_tuple((t, x, damage, inserted, chain): Self::Tuple) -> Self {
+        InterfaceRecord {
+            t,
+            x,
+            damage,
+            inserted,
+            chain,
+        }
+    }
+}
+
+impl all_fields::AsTuple for FaceRecord {
+    type Tuple = (f64, f64, f64, f64, f64, Option<u16>);
+    fn to_tuple(&self) -> Self::Tuple {
+        let FaceRecord {
+            t,
+            x,
+            penetration,
+            normal_traction,
+            tangential_traction,
+            chain,
+        } = *self;
+        (t, x, penetration, normal_traction, tangential_traction, chain)
+    }
+    fn from_tuple((t, x, penetration, normal_traction, tangential_traction, chain): Self::Tuple) -> Self {
+        FaceRecord {
+            t,
+            x,
+            penetration,
+            normal_traction,
+            tangential_traction,
+            chain,
+        }
+    }
+}
+
+impl all_fields::AsTuple for ArrivalRecord {
+    type Tuple = (f64, f64, f64, f64, Option<u16>);
+    fn to_tuple(&self) -> Self::Tuple {
+        let ArrivalRecord {
+            x,
+            insertion_time,
+            failure_time,
+            work_density,
+            chain,
+        } = *self;
+        (x, insertion_time, failure_time, work_density, chain)
+    }
+    fn from_tuple((x, insertion_time, failure_time, work_density, chain): Self::Tuple) -> Self {
+        ArrivalRecord {
+            x,
+            insertion_time,
+            failure_time,
+            work_density,
+            chain,
+        }
+    }
 }
 
 impl RunOutput {

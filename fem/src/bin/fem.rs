@@ -63,6 +63,8 @@ fn run() -> anyhow::Result<()> {
         out_dir,
         // the folder stays locked against other runs until this function returns, output written
         claim: _held,
+        resumed,
+        mut checkpoints,
         ..
     } = prepared;
     announce_fields(&scene, &out_dir);
@@ -72,7 +74,7 @@ fn run() -> anyhow::Result<()> {
             .context("progress style")?,
     );
     let started = std::time::Instant::now();
-    let result = fem::run_with_fields(
+    let result = fem::run_checkpointed(
         &scene,
         &mut |done, total| {
             bar.set_length(total);
@@ -80,9 +82,18 @@ fn run() -> anyhow::Result<()> {
         },
         stop,
         fields.as_mut().map(|w| w as &mut dyn fem::FieldSink),
+        checkpoints.as_mut(),
+        resumed.as_ref(),
     );
     bar.finish();
     let ended = fem::ended(result)?;
+    if let Some(w) = &checkpoints {
+        println!("{}", w.summary());
+        if matches!(ended, RunEnded::Finished(_)) {
+            w.remove()
+                .context("removing the checkpoint of the finished run")?;
+        }
+    }
     let why = why(&ended);
     report(&scene, &ended.into_output(), &out_dir, started, fields.as_ref())?;
     match why {
@@ -123,7 +134,7 @@ fn why(ended: &RunEnded<fem::RunOutput>) -> Option<String> {
             message,
             ..
         } => Some(format!(
-            "stopped at step {step}, t = {time_s} s: a field snapshot could not be written: {message}"
+            "stopped at step {step}, t = {time_s} s: an output could not be written: {message}"
         )),
     }
 }

@@ -49,7 +49,7 @@ pub(crate) fn node_geometry(
 }
 
 /// Friction history of one slave from the previous step (docs/fem-model.md §5.3).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub(crate) struct SlaveHistory {
     /// Master segment nodes (k1, k2) of the previous step's contact element.
     pub segment: [u32; 2],

@@ -41,7 +41,7 @@ pub(crate) struct ContactParams {
 
 /// Γ_det (paper eq. 10): segments (j1, j2) stored in the counter-clockwise order of their single
 /// owning bulk element, so the outward normal is n_e = (t_y, −t_x).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub(crate) struct DetectionSurface {
     /// Segments (j1, j2), owner counter-clockwise.
     segments: Vec<[u32; 2]>,
@@ -78,6 +78,15 @@ impl DetectionSurface {
         }
     }
 
+    /// Reserves the capacities `like` has (a surface read back from a checkpoint, to which the
+    /// time loop adds segments without allocating).
+    pub fn keep_capacity(&mut self, like: &DetectionSurface) {
+        self.segments
+            .reserve(like.segments.capacity().saturating_sub(self.segments.len()));
+        self.nodes
+            .reserve(like.nodes.capacity().saturating_sub(self.nodes.len()));
+    }
+
     /// Number of segments in Γ_det.
     pub fn num_segments(&self) -> usize {
         self.segments.len()
@@ -96,7 +105,7 @@ impl DetectionSurface {
 
 /// Per-node results of the last `resolve` plus friction history (struct of arrays indexed by node id;
 /// entries of nodes outside N_det stay zero/false).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub(crate) struct ContactState {
     /// Slave had a contact element this step (used for damping, docs/fem-model.md §6).
     pub in_contact: Vec<bool>,
@@ -188,6 +197,13 @@ pub(crate) struct ContactWorkspace {
     normal: Vec<Vector2<f64>>,
     /// One detection result per node of Γ_det, in its order.
     detected: Vec<Detected>,
+}
+
+/// An empty workspace, to be replaced by one sized for its mesh ([`ContactWorkspace::new`]).
+impl Default for ContactWorkspace {
+    fn default() -> Self {
+        Self::new(0, 0)
+    }
 }
 
 impl ContactWorkspace {

@@ -248,6 +248,31 @@ impl<'a> Snapshots<'a> {
         }
     }
 
+    /// Whether the sink has failed (the error is kept for [`Snapshots::error`]).
+    pub(crate) fn failed(&self) -> bool {
+        self.error.is_some()
+    }
+
+    /// Step of the last snapshot taken (`None`: none yet).
+    pub(crate) fn last_taken(&self) -> Option<u64> {
+        self.last
+    }
+
+    /// The sink's list of the snapshots taken, as a checkpoint keeps it.
+    pub(crate) fn taken(&self) -> Vec<(f64, Vec<String>)> {
+        self.sink.as_deref().map_or_else(Vec::new, FieldSink::taken)
+    }
+
+    /// Takes back what [`Snapshots::last_taken`] and [`Snapshots::taken`] gave, when a run
+    /// resumes from a checkpoint.
+    pub(crate) fn resume(&mut self, last: Option<u64>, taken: Vec<(f64, Vec<String>)>) -> io::Result<()> {
+        self.last = last;
+        match self.sink.as_deref_mut() {
+            Some(sink) => sink.resume(taken),
+            None => Ok(()),
+        }
+    }
+
     /// The sink's error, if it failed.
     pub(crate) fn error(&mut self) -> Option<io::Error> {
         self.error.take()

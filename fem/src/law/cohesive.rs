@@ -44,7 +44,7 @@ pub enum ClosingTreatment {
 }
 
 /// State of one cohesive Gauss point.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CohesiveState {
     /// Effective strength σ_c,eff [Pa] (the effective stress at insertion, App. A).
     pub sigma_c_eff: f64,

@@ -265,7 +265,7 @@ impl ElementNodes {
 }
 
 /// Cohesive state of the interface row's facets (struct of arrays, indexed by facet).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub(crate) struct Facets {
     pub inserted: Vec<bool>,
     /// Normal orientation sign s_e fixed at insertion.
@@ -287,7 +287,7 @@ pub(crate) struct Facets {
 }
 
 /// Accumulated energies [J/m].
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, serde::Serialize, serde::Deserialize)]
 pub(crate) struct EnergyTotals {
     pub boundary_work: f64,
     pub cohesive_total: f64,
@@ -299,10 +299,12 @@ pub(crate) struct EnergyTotals {
 }
 
 /// Node-to-segment contact state (hybrid model with contact surfaces only).
-#[derive(Debug)]
+#[derive(Debug, serde::Serialize, serde::Deserialize)]
 pub(crate) struct ContactPart {
     pub surface: DetectionSurface,
     pub state: ContactState,
+    /// Scratch of the contact pass: not part of a checkpoint (each pass rebuilds it).
+    #[serde(skip)]
     pub ws: ContactWorkspace,
     /// Contact force of the previous step per interface-row slot [N/m] (minus row then plus row).
     pub f_prev: Vec<Vector2<f64>>,
@@ -312,8 +314,8 @@ pub(crate) struct ContactPart {
     pub dropped_total: u64,
 }
 
-/// Evolving state.
-#[derive(Debug)]
+/// Evolving state: everything a checkpoint holds of the model (`solver::checkpoint`).
+#[derive(Debug, serde::Serialize, serde::Deserialize)]
 pub struct State {
     pub(crate) step: u64,
     /// Time t [s].

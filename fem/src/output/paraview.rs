@@ -110,6 +110,30 @@ impl FieldSink for ParaviewWriter {
         self.written.push((snapshot.t, files));
         Ok(())
     }
+
+    fn taken(&self) -> Vec<(f64, Vec<String>)> {
+        self.written.clone()
+    }
+
+    fn resume(&mut self, taken: Vec<(f64, Vec<String>)>) -> io::Result<()> {
+        let listed: std::collections::HashSet<&str> =
+            taken.iter().flat_map(|(_, f)| f).map(String::as_str).collect();
+        let fields = self.dir.join(FIELDS_DIR);
+        let mut after = Vec::new();
+        for entry in std::fs::read_dir(&fields)? {
+            let path = entry?.path();
+            let name = format!(
+                "{FIELDS_DIR}/{}",
+                path.file_name().unwrap_or_default().to_string_lossy()
+            );
+            if is_snapshot_file(&path) && !listed.contains(name.as_str()) {
+                after.push(path);
+            }
+        }
+        preflight::paths::remove_files(after)?;
+        self.written = taken;
+        Ok(())
+    }
 }
 
 fn vtk_array(a: FieldArray) -> Attribute {

@@ -133,4 +133,17 @@ pub struct FieldSnapshot {
 pub trait FieldSink: Send {
     /// Takes one snapshot; an error stops the run (`RunError::FieldOutput`).
     fn snapshot(&mut self, snapshot: FieldSnapshot) -> io::Result<()>;
+
+    /// The snapshots taken so far as a checkpoint keeps them: (time [s], files written) each,
+    /// in the order taken (empty for a sink that keeps no list).
+    fn taken(&self) -> Vec<(f64, Vec<String>)> {
+        Vec::new()
+    }
+
+    /// Takes back the list [`FieldSink::taken`] gave, when a run resumes from a checkpoint; a
+    /// sink that writes files removes those of the stopped run that are not in it (taken after
+    /// the checkpoint: the resumed run writes them again, or not at all).
+    fn resume(&mut self, _taken: Vec<(f64, Vec<String>)>) -> io::Result<()> {
+        Ok(())
+    }
 }

@@ -3,6 +3,7 @@
 
 pub(crate) mod absorbing;
 pub mod central_difference;
+pub(crate) mod checkpoint;
 pub(crate) mod contact_step;
 pub mod estimate;
 pub(crate) mod node;

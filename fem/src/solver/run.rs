@@ -1,7 +1,8 @@
 //! The time loop: steps from 0 to T, samples every `output_interval` (and takes the ParaView
 //! snapshots a caller asks for), stops on instability (RunError::Unstable), when asked to
-//! (RunError::Interrupted) or when a snapshot cannot be written (RunError::FieldOutput), with the
-//! output computed so far.
+//! (RunError::Interrupted) or when a snapshot or a checkpoint cannot be written
+//! (RunError::FieldOutput), with the output computed so far. It writes checkpoints when asked to,
+//! and resumes from one.
 
 use crate::diag::fields::Snapshots;
 use crate::diag::{Observer, Recorder, tips};
@@ -13,7 +14,9 @@ use crate::records::RunOutput;
 use crate::records::fields::FieldSink;
 use crate::scene::Scene;
 use crate::solver::central_difference::step;
+use crate::solver::checkpoint;
 use preflight::RunEnded;
+use preflight::checkpoint::{Resumed, Writer};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Runs the scene from t = 0 to T.
@@ -82,6 +85,25 @@ pub fn run_with_fields(
     stop: &AtomicBool,
     fields: Option<&mut dyn FieldSink>,
 ) -> Result<RunOutput, RunError> {
+    run_checkpointed(scene, progress, stop, fields, None, None)
+}
+
+/// As [`run_with_fields`], with checkpoints (docs/reliability.md):
+/// - with `checkpoints`, the complete state is written whenever the writer says one is due (it
+///   is asked a few hundred times per run, between steps), and when the run is stopped on
+///   request, so that the run can be resumed; a checkpoint that cannot be written stops the run
+///   with `RunError::FieldOutput`;
+/// - with `resumed`, the run continues from that checkpoint (which `preflight::checkpoint::read`
+///   checked against the scene) instead of t = 0; its records, snapshots and files are then
+///   the same, to the bit, as those of a run that never stopped.
+pub fn run_checkpointed(
+    scene: &Scene,
+    progress: &mut dyn FnMut(u64, u64),
+    stop: &AtomicBool,
+    fields: Option<&mut dyn FieldSink>,
+    mut checkpoints: Option<&mut Writer>,
+    resumed: Option<&Resumed>,
+) -> Result<RunOutput, RunError> {
     let (model, mut state, mut ws) = build(scene)?;
     let dt = model.dt;
     let total = (scene.duration() / dt).ceil() as u64;
@@ -101,10 +123,19 @@ pub fn run_with_fields(
         boundary_parts: model.boundary.parts.names.clone(),
         ..RunOutput::default()
     };
-    Recorder { out: &mut out }.observe(&model, &state, &ws);
     let mut snapshots = Snapshots::new(scene, dt, fields);
-    snapshots.after_step(&model, &state);
-    let mut done = 0;
+    match resumed {
+        Some(r) => {
+            let saved = r.state().map_err(RunError::Resume)?;
+            checkpoint::restore(saved, &model, &mut state, &mut ws, &mut out, &mut snapshots)
+                .map_err(RunError::Resume)?;
+        }
+        None => {
+            Recorder { out: &mut out }.observe(&model, &state, &ws);
+            snapshots.after_step(&model, &state);
+        }
+    }
+    let mut done = state.step;
     while done < total {
         let end = (done + report).min(total);
         // The steps run inside a rayon scope, i.e. on a pool thread: parallel loops then use the
@@ -127,13 +158,25 @@ pub fn run_with_fields(
             None
         });
         if let Some(Ok(())) = failed {
+            // stopped on request: the checkpoint of this step, before the records of the end
+            let unsaved = match checkpoints.as_deref_mut() {
+                Some(w) if !snapshots.failed() => w
+                    .write(
+                        state.step,
+                        state.t,
+                        &checkpoint::saving(&state, &ws, &out, &snapshots),
+                    )
+                    .err(),
+                _ => None,
+            };
             finish(&model, &state, &ws, &mut out, &mut snapshots);
-            if let Some(e) = snapshots.error() {
+            let failed = snapshots.error().map(|e| format!("field snapshot: {e}"));
+            if let Some(message) = failed.or(unsaved.map(|e| format!("checkpoint: {e}"))) {
                 out.status = preflight::Status::OutputFailed;
                 return Err(RunError::FieldOutput {
                     step: state.step,
                     time_s: state.t,
-                    message: e.to_string(),
+                    message,
                     partial: Box::new(out),
                 });
             }
@@ -161,6 +204,24 @@ pub fn run_with_fields(
         }
         done = end;
         progress(done, total);
+        if let Some(w) = checkpoints.as_deref_mut()
+            && done < total
+            && w.due()
+            && let Err(e) = w.write(
+                state.step,
+                state.t,
+                &checkpoint::saving(&state, &ws, &out, &snapshots),
+            )
+        {
+            finish(&model, &state, &ws, &mut out, &mut snapshots);
+            out.status = preflight::Status::OutputFailed;
+            return Err(RunError::FieldOutput {
+                step: state.step,
+                time_s: state.t,
+                message: format!("checkpoint: {e}"),
+                partial: Box::new(out),
+            });
+        }
     }
     finish(&model, &state, &ws, &mut out, &mut snapshots);
     match snapshots.error() {
@@ -169,7 +230,7 @@ pub fn run_with_fields(
             Err(RunError::FieldOutput {
                 step: state.step,
                 time_s: state.t,
-                message: e.to_string(),
+                message: format!("field snapshot: {e}"),
                 partial: Box::new(out),
             })
         }
