@@ -11,6 +11,7 @@ use std::sync::Arc;
 use rustfft::num_complex::Complex64;
 use rustfft::{Fft, FftPlanner};
 
+use crate::checkpoint::{HalfSpaceState, OperatorState};
 use crate::convolution::{self, ModeSums, Weights};
 use crate::error::BuildError;
 use crate::fast::{FastConvolution, SoeFit};
@@ -46,7 +47,7 @@ pub struct HalfSpaceParams {
 }
 
 /// Displacement, velocity or traction fields of both faces on the grid (SoA).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct FaceFields {
     /// Top face (y = 0⁺), x component.
     pub top_x: Vec<f64>,
@@ -177,6 +178,54 @@ impl HalfSpaces {
         }
     }
 
+    /// The evolving part, for a checkpoint: the convolution history of the chosen path (§4.1
+    /// ring buffers or §4.3 recursion states). Everything else is the scene's (kernels, weights,
+    /// FFT plans) or is written by a step before that step reads it (the FFT, spectra and sums
+    /// buffers).
+    pub(crate) fn saved(&self) -> HalfSpaceState<'_> {
+        let HalfSpaces {
+            p: _,
+            modes: _,
+            path,
+            fwd: _,
+            inv: _,
+            a: _,
+            b: _,
+            scratch: _,
+            scratch_b: _,
+            spectra: _,
+            sums: _,
+            stats: _,
+        } = self;
+        match path {
+            Path::Direct { history, weights: _ } => HalfSpaceState::Direct(history.saved()),
+            Path::Fast(fast) => HalfSpaceState::Fast(fast.saved()),
+        }
+    }
+
+    /// Restores what [`HalfSpaces::saved`] wrote into this operator, built for the same scene.
+    pub(crate) fn restore(&mut self, saved: &HalfSpaceState<'_>) -> Result<(), String> {
+        let HalfSpaces {
+            p: _,
+            modes: _,
+            path,
+            fwd: _,
+            inv: _,
+            a: _,
+            b: _,
+            scratch: _,
+            scratch_b: _,
+            spectra: _,
+            sums: _,
+            stats: _,
+        } = self;
+        match (path, saved) {
+            (Path::Direct { history, weights: _ }, HalfSpaceState::Direct(h)) => history.restore(h),
+            (Path::Fast(fast), HalfSpaceState::Fast(s)) => fast.restore(s),
+            _ => Err("its convolution path is not the scene's (spectral.convolution)".into()),
+        }
+    }
+
     /// Records u^n in the history and writes f^n (§4.2 steps 2–4). Call once per step, in order.
     pub fn step(&mut self, u: &FaceFields, f: &mut FaceFields) {
         self.forward(u);
@@ -285,6 +334,41 @@ impl Operator {
                 f.bottom_x.copy_from_slice(&scratch.bottom_x);
                 f.bottom_y.copy_from_slice(&scratch.bottom_y);
             }
+        }
+    }
+
+    /// The evolving part, for a checkpoint: each half-space operator's history (the split
+    /// operator's scratch is written by every step before it is read).
+    pub(crate) fn saved(&self) -> OperatorState<'_> {
+        match self {
+            Operator::Identical(h) => OperatorState::Identical(h.saved()),
+            Operator::Split {
+                top,
+                bottom,
+                scratch: _,
+            } => OperatorState::Split {
+                top: top.saved(),
+                bottom: bottom.saved(),
+            },
+        }
+    }
+
+    /// Restores what [`Operator::saved`] wrote into this operator, built for the same scene.
+    pub(crate) fn restore(&mut self, saved: &OperatorState<'_>) -> Result<(), String> {
+        match (self, saved) {
+            (Operator::Identical(h), OperatorState::Identical(s)) => h.restore(s),
+            (
+                Operator::Split {
+                    top,
+                    bottom,
+                    scratch: _,
+                },
+                OperatorState::Split { top: t, bottom: b },
+            ) => {
+                top.restore(t)?;
+                bottom.restore(b)
+            }
+            _ => Err("one operator for both half-spaces against one per half-space ([material])".into()),
         }
     }
 

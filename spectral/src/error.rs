@@ -130,6 +130,26 @@ pub enum RunError {
         /// Output computed so far.
         partial: Box<RunOutput>,
     },
+    /// A checkpoint (`--checkpoint-every`) could not be written: the run stopped there, as with
+    /// any output that fails; `partial` holds everything recorded so far.
+    #[error("run stopped at step {step} (t = {time_s:e} s): {message}")]
+    OutputFailed {
+        /// Last step computed.
+        step: u64,
+        /// Its time [s].
+        time_s: f64,
+        /// What failed, naming the file.
+        message: String,
+        /// Output computed so far.
+        partial: Box<RunOutput>,
+    },
+    /// The checkpoint to resume from cannot be read or does not fit the model the scene builds;
+    /// no step ran.
+    #[error("{message}")]
+    Resume {
+        /// Why, naming the checkpoint file.
+        message: String,
+    },
     /// Stopped on request (Ctrl-C, SIGTERM) before T; `partial` holds everything recorded so far.
     #[error("run stopped on request at step {step} (t = {time_s:e} s)")]
     Interrupted {

@@ -13,9 +13,12 @@
 //! decays like T^{−3/2} there, |K| ≤ 9e−3 at T = 100). Both paths use the same kernels on [0, tcut]
 //! to the fit tolerance.
 
+use std::borrow::Cow;
+
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 
+use crate::checkpoint::{FastState, fill};
 use crate::convolution::ModeSums;
 use crate::history::Entry;
 use crate::modes::Modes;
@@ -42,10 +45,11 @@ pub struct FastConvolution {
 /// bottom x im, top y re, top y im, bottom y re, bottom y im).
 type Lanes = [f64; 8];
 
-/// Recursion state of one pole: real parts and imaginary parts over the eight lanes.
-#[derive(Debug, Clone, Copy, Default)]
+/// Recursion state s_{j,p}(n) of one pole: real parts and imaginary parts over the eight lanes
+/// [m·(kernel units)], the whole memory of the fast path (§4.3).
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 #[repr(C, align(64))]
-struct State {
+pub(crate) struct State {
     re: Lanes,
     im: Lanes,
 }
@@ -121,6 +125,35 @@ impl FastConvolution {
     /// Bytes of coefficients and states touched per step [B].
     pub fn bytes(&self) -> usize {
         self.z.len() * 16 + self.g.len() * 48 + self.s.len() * std::mem::size_of::<State>()
+    }
+
+    /// The evolving part, for a checkpoint: the recursion states (poles, weights and `r` are the
+    /// fit's).
+    pub(crate) fn saved(&self) -> FastState<'_> {
+        let FastConvolution {
+            r: _,
+            z: _,
+            g: _,
+            s,
+            avx2: _,
+        } = self;
+        FastState {
+            states: Cow::Borrowed(s),
+        }
+    }
+
+    /// Restores what [`FastConvolution::saved`] wrote into these states (built for the same
+    /// scene).
+    pub(crate) fn restore(&mut self, saved: &FastState<'_>) -> Result<(), String> {
+        let FastConvolution {
+            r: _,
+            z: _,
+            g: _,
+            s,
+            avx2: _,
+        } = self;
+        let FastState { states } = saved;
+        fill(s, states, "sum-of-exponentials states")
     }
 
     /// Pushes Û^n of every mode and writes the eight convolutions per mode into `out`.

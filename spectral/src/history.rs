@@ -2,22 +2,48 @@
 //! (cRacklet layout, docs/spectral-model.md §4). Each entry holds the four fields of one mode at one
 //! past step, so the fused convolution streams one array.
 
-use rustfft::num_complex::Complex64;
+use std::borrow::Cow;
 
+use rustfft::num_complex::Complex64;
+use serde::{Deserialize, Serialize};
+
+use crate::checkpoint::{HistoryState, fill};
 use crate::modes::Modes;
 
 /// Spectra of one mode at one step: Û^+_1, Û^+_2, Û^-_1, Û^-_2 [m].
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 #[repr(C)]
 pub struct Entry {
     /// Û of the top face, x component [m].
+    #[serde(with = "complex")]
     pub top_x: Complex64,
     /// Û of the top face, y component [m].
+    #[serde(with = "complex")]
     pub top_y: Complex64,
     /// Û of the bottom face, x component [m].
+    #[serde(with = "complex")]
     pub bottom_x: Complex64,
     /// Û of the bottom face, y component [m].
+    #[serde(with = "complex")]
     pub bottom_y: Complex64,
+}
+
+/// A complex number in serde form as its (re, im) pair of floats (num-complex's own serde form,
+/// without enabling its feature).
+pub(crate) mod complex {
+    use rustfft::num_complex::Complex64;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    /// Writes z as (re, im).
+    pub fn serialize<S: Serializer>(z: &Complex64, s: S) -> Result<S::Ok, S::Error> {
+        (z.re, z.im).serialize(s)
+    }
+
+    /// Reads (re, im).
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Complex64, D::Error> {
+        let (re, im) = <(f64, f64)>::deserialize(d)?;
+        Ok(Complex64::new(re, im))
+    }
 }
 
 /// Ring buffers of the last L_j spectra of every mode j ≥ 1.
@@ -64,6 +90,46 @@ impl History {
     /// Number of valid lags of mode j: min(steps stored, L_j).
     pub fn count(&self, j: usize) -> usize {
         self.stored.min(self.window[j])
+    }
+
+    /// The evolving part, for a checkpoint: the ring buffers, their write positions and the
+    /// count of steps pushed (offsets and windows are the scene's).
+    pub(crate) fn saved(&self) -> HistoryState<'_> {
+        let History {
+            entries,
+            pos,
+            offset: _,
+            window: _,
+            stored,
+        } = self;
+        HistoryState {
+            entries: Cow::Borrowed(entries),
+            pos: Cow::Borrowed(pos),
+            stored: *stored,
+        }
+    }
+
+    /// Restores what [`History::saved`] wrote into these buffers (built for the same scene).
+    pub(crate) fn restore(&mut self, saved: &HistoryState<'_>) -> Result<(), String> {
+        let History {
+            entries,
+            pos,
+            offset: _,
+            window,
+            stored,
+        } = self;
+        let HistoryState {
+            entries: e,
+            pos: p,
+            stored: s,
+        } = saved;
+        fill(entries, e, "history ring buffers")?;
+        fill(pos, p, "history write positions")?;
+        if pos.iter().zip(window.iter()).skip(1).any(|(&p, &l)| p >= l) {
+            return Err("a history write position outside its window".into());
+        }
+        *stored = *s;
+        Ok(())
     }
 
     /// Lags 0..count of mode j as two contiguous runs (newest first).

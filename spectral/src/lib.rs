@@ -4,11 +4,12 @@
 //! matching normal displacements and Prakash-regularised Coulomb friction (Pundir & Anciaux 2020,
 //! §3.2). Method notes: docs/spectral-model.md. SI units throughout.
 //!
-//! Public surface: [`Scene`], [`run`], [`run_with_progress`], [`ended`], [`RunOutput`],
+//! Public surface: [`Scene`], [`run`], [`run_with_progress`], [`run_checkpointed`], [`ended`], [`RunOutput`],
 //! [`TipRecord`], errors; the building blocks ([`kernels`], [`elastodynamics`], [`law`]) are
 //! public for verification.
 #![warn(missing_docs)]
 
+mod checkpoint;
 mod convolution;
 mod diag;
 pub mod elastodynamics;
@@ -26,6 +27,10 @@ mod soe;
 mod solver;
 
 use std::sync::atomic::{AtomicBool, Ordering};
+
+use preflight::checkpoint::{Resumed, Writer};
+
+use checkpoint::Cursor;
 
 pub use elastodynamics::{ConvolutionStats, FaceFields, HalfSpaceParams, HalfSpaces, Operator};
 pub use error::{BuildError, RunError, SceneError};
@@ -66,6 +71,17 @@ pub fn ended(result: Result<RunOutput, RunError>) -> Result<preflight::RunEnded<
             time_s,
             partial: *partial,
         }),
+        Err(RunError::OutputFailed {
+            step,
+            time_s,
+            message,
+            partial,
+        }) => Ok(preflight::RunEnded::OutputFailed {
+            step,
+            time_s,
+            message,
+            partial: *partial,
+        }),
         Err(e) => Err(e),
     }
 }
@@ -82,6 +98,29 @@ pub fn run_with_progress(
     scene: &Scene,
     progress: &mut dyn FnMut(u64, u64),
     stop: &AtomicBool,
+) -> Result<RunOutput, RunError> {
+    run_checkpointed(scene, progress, stop, None, None)
+}
+
+/// As [`run_with_progress`], with checkpoints (`preflight::checkpoint`; what one holds: the
+/// `checkpoint` module's notes).
+///
+/// - `checkpoints`: where [`progress`](run_with_progress) is reported, the state after the last
+///   step done is written when the writer says one is [due](Writer::due), and once more when the
+///   run is stopped on request, so that a stopped run resumes. A checkpoint that cannot be
+///   written stops the run with `RunError::OutputFailed`, the message naming the file.
+/// - `resumed`: the model is built from `scene` (which `preflight::checkpoint::read` checked is
+///   the checkpoint's), the checkpoint's state is restored into it and the run continues with
+///   its next step; its records are then those of a run that never stopped, to the bit, whatever
+///   the thread count. A state that cannot be read or does not fit is `RunError::Resume`.
+///
+/// With neither, this is [`run_with_progress`]: nothing more is done or allocated.
+pub fn run_checkpointed(
+    scene: &Scene,
+    progress: &mut dyn FnMut(u64, u64),
+    stop: &AtomicBool,
+    mut checkpoints: Option<&mut Writer>,
+    resumed: Option<&Resumed>,
 ) -> Result<RunOutput, RunError> {
     let (model, mut st, mut ws) = solver::build(scene)?;
     let last = scene.last_step();
@@ -106,10 +145,13 @@ pub fn run_with_progress(
             last_step: 0,
         },
     };
-    let (mut next_contact, mut next_field) = (0u64, 0u64);
+    let mut at = match resumed {
+        Some(r) => checkpoint::restore(r, &mut st, &mut ws, &mut out)?,
+        None => Cursor::START,
+    };
     let report_every = (total / 200).max(1);
-    let mut first = 0;
-    while first <= last {
+    while at.next_step <= last {
+        let first = at.next_step;
         let end = (first + report_every).min(last + 1);
         // The steps run inside a rayon scope, i.e. on a pool thread: the per-step parallel loops
         // then split work through the worker's own deque instead of injecting jobs from this
@@ -127,27 +169,35 @@ pub fn run_with_progress(
                 out.stats.steps = n + 1;
                 out.stats.last_step = n;
                 out.tips.push(diag::tips(&model, &st, t));
-                if t >= next_contact as f64 * scene.output_interval - 1e-9 * dt {
+                if t >= at.next_contact as f64 * scene.output_interval - 1e-9 * dt {
                     out.contact.push(diag::contact_means(&model, &st, t));
-                    next_contact += 1;
+                    at.next_contact += 1;
                 }
                 if let Some(fi) = field_interval
-                    && t >= next_field as f64 * fi - 1e-9 * dt
+                    && t >= at.next_field as f64 * fi - 1e-9 * dt
                 {
                     diag::fields(&model, &st, t, &mut out.fields);
-                    next_field += 1;
+                    at.next_field += 1;
                 }
                 if n < last {
                     solver::advance(&model, &mut st);
                 }
+                at.next_step = n + 1;
             }
             None
         });
         if let Some((n, t, None)) = failed {
+            // the state after step n − 1 (u^n included), resumable at step n
+            let stopped = (n.saturating_sub(1), (t - dt).max(0.0));
+            if let Some(w) = checkpoints.as_deref_mut()
+                && let Err(e) = checkpoint::write(w, &model, &st, &ws, &out, at)
+            {
+                return Err(output_failed(out, stopped, &e));
+            }
             out.stats.status = preflight::Status::Interrupted;
             return Err(RunError::Interrupted {
-                step: n.saturating_sub(1),
-                time_s: (t - dt).max(0.0),
+                step: stopped.0,
+                time_s: stopped.1,
                 partial: Box::new(out),
             });
         }
@@ -163,10 +213,28 @@ pub fn run_with_progress(
                 partial: Box::new(out),
             });
         }
-        first = end;
+        // a run that reached its end has nothing to resume
+        if end <= last
+            && let Some(w) = checkpoints.as_deref_mut()
+            && w.due()
+            && let Err(e) = checkpoint::write(w, &model, &st, &ws, &out, at)
+        {
+            return Err(output_failed(out, (end - 1, (end - 1) as f64 * dt), &e));
+        }
         progress(end, total);
     }
     progress(total, total);
     out.stats.status = preflight::Status::Finished;
     Ok(out)
+}
+
+/// The end of a run whose checkpoint could not be written after step `step` at `time_s` [s].
+fn output_failed(mut out: RunOutput, (step, time_s): (u64, f64), e: &std::io::Error) -> RunError {
+    out.stats.status = preflight::Status::OutputFailed;
+    RunError::OutputFailed {
+        step,
+        time_s,
+        message: format!("checkpoint: {e}"),
+        partial: Box::new(out),
+    }
 }

@@ -2,12 +2,12 @@
 
 use std::path::{Path, PathBuf};
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// One sample of the crack-tip history (docs/solver-api.md). Positions are x coordinates [m] in the
 /// scene frame (the pre-crack spans center_x ± half_length); t [s] is the time at which the
 /// displacements that define the tips hold (t_n = n Δt, docs/spectral-model.md §8.8), unshifted.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct TipRecord {
     /// Time t [s].
     pub t: f64,
@@ -23,7 +23,7 @@ pub struct TipRecord {
 }
 
 /// Contact means at one output time.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ContactMeanRecord {
     /// Time t [s].
     pub t: f64,
@@ -46,7 +46,7 @@ pub struct ContactMeanRecord {
 }
 
 /// Space-time field sample at one grid point.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct FieldRecord {
     /// Time t [s].
     pub t: f64,

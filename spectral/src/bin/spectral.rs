@@ -1,5 +1,6 @@
-//! `spectral SCENE.toml [--out DIR]`: checks everything first (the scene, the kernel fit, the
-//! budgets, the output folder), then runs the scene, writes CSV and prints where the outputs went.
+//! `spectral SCENE.toml [--out DIR] [--checkpoint-every SECONDS] [--resume DIR]`: checks
+//! everything first (the scene, the kernel fit, the budgets, the output folder, the checkpoint to
+//! resume), then runs the scene, writes CSV and prints where the outputs went.
 
 use std::path::{Path, PathBuf};
 
@@ -55,6 +56,8 @@ fn run() -> anyhow::Result<()> {
         out_dir,
         // the folder stays locked against other runs until this function returns, output written
         claim: _held,
+        resumed,
+        mut checkpoints,
         ..
     } = prepared;
     let bar = ProgressBar::new(estimate.steps);
@@ -62,19 +65,37 @@ fn run() -> anyhow::Result<()> {
         "{bar:40} {pos}/{len} steps {elapsed_precise} eta {eta}",
     )?);
     let start = std::time::Instant::now();
-    let result = spectral::run_with_progress(
+    let result = spectral::run_checkpointed(
         &scene,
         &mut |done, total| {
             bar.set_length(total);
             bar.set_position(done);
         },
         stop,
+        checkpoints.as_mut(),
+        resumed.as_ref(),
     );
     bar.finish();
     let wall = start.elapsed().as_secs_f64();
     let ended = spectral::ended(result)?;
     let why = why(&ended);
-    report(&ended.into_output(), &out_dir, wall)?;
+    let finished = matches!(ended, RunEnded::Finished(_));
+    let from = resumed.as_ref().map_or(0, |r| r.header.step);
+    report(&ended.into_output(), &out_dir, wall, from)?;
+    if let Some(w) = &checkpoints {
+        println!("{}", w.summary());
+    }
+    if finished {
+        // nothing left to resume; removed once the output is written, so that a failed write
+        // can still be redone from the checkpoint
+        match &checkpoints {
+            Some(w) => w.remove()?,
+            None => {
+                preflight::paths::remove_files([out_dir.join(preflight::checkpoint::FILE)])
+                    .with_context(|| format!("removing the checkpoint in {}", out_dir.display()))?;
+            }
+        }
+    }
     match why {
         Some(why) => Err(StoppedEarly { why, out_dir }.into()),
         None => Ok(()),
@@ -108,8 +129,9 @@ fn why(ended: &RunEnded<spectral::RunOutput>) -> Option<String> {
 }
 
 /// Writes the run's records (complete or partial) and says what went where: the run's
-/// statistics over `wall` seconds, then one file a line.
-fn report(output: &spectral::RunOutput, out_dir: &Path, wall: f64) -> anyhow::Result<()> {
+/// statistics over `wall` seconds, spent on the steps after the first `from` (those of the
+/// checkpoint a resumed run started from), then one file a line.
+fn report(output: &spectral::RunOutput, out_dir: &Path, wall: f64, from: u64) -> anyhow::Result<()> {
     let files =
         spectral::write_csv(output, out_dir).with_context(|| format!("writing {}", out_dir.display()))?;
     let s = output.stats;
@@ -118,7 +140,7 @@ fn report(output: &spectral::RunOutput, out_dir: &Path, wall: f64) -> anyhow::Re
         s.steps,
         s.grid_points,
         wall,
-        1e3 * wall / s.steps.max(1) as f64,
+        1e3 * wall / s.steps.saturating_sub(from).max(1) as f64,
         s.bytes_per_step as f64 / 1e6,
         s.exp_terms
     );

@@ -47,7 +47,7 @@ impl CohesiveParams {
 }
 
 /// Current strengths and state of one point.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Strength {
     /// Normal strength σ_s [Pa].
     pub sigma: f64,

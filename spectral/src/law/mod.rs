@@ -47,7 +47,7 @@ impl Impedances {
 }
 
 /// State of an interface point (cRacklet's `ind`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, serde::Serialize, serde::Deserialize)]
 #[repr(u8)]
 pub enum PointState {
     /// Untouched: full strength.

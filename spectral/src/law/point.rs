@@ -56,7 +56,7 @@ pub struct Drive {
 }
 
 /// Per-point interface state and the results of its last step.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Point {
     /// Strengths and state.
     pub strength: Strength,
