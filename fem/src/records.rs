@@ -396,6 +396,10 @@ pub struct RunOutput {
     /// printed, never written, and not checkpointed).
     #[serde(skip)]
     pub profile: Vec<crate::profile::PhaseTime>,
+    /// Step of the checkpoint this run resumed from; 0 for a run from t = 0 (never written: the
+    /// records of a resumed run are those of a run that never stopped).
+    #[serde(skip)]
+    pub resumed_from: u64,
 }
 
 /// The checkpoint form of the records whose `chain` their CSV file leaves out when it is `None`

@@ -176,3 +176,132 @@ fn a_resumed_run_writes_the_snapshots_of_the_run_that_never_stopped() {
         scene_text("tiny-fem-center-crack").replace("[fem]\n", "[fem.paraview]\ninterval = 1e-4\n\n[fem]\n");
     stop_and_resume("paraview", &text, 0.45);
 }
+
+/// `fem` with `args`, to its end.
+fn fem(args: &[&std::ffi::OsStr]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_fem"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// Modification time of `path`, if it exists.
+fn modified(path: &Path) -> Option<std::time::SystemTime> {
+    std::fs::metadata(path).and_then(|m| m.modified()).ok()
+}
+
+/// Through the command line: a run with `--checkpoint-every` is killed (SIGKILL, no chance to
+/// write anything) after its second checkpoint, then `--resume` finishes it. Its folder then
+/// holds the files of a run that never stopped, byte for byte, and no checkpoint. Before that,
+/// a resume with a changed scene value and one with a changed mesh file are refused, naming
+/// what changed. On the grid, and on a Gmsh mesh (an arc interface sheared with friction).
+#[test]
+fn a_killed_run_resumes_and_writes_the_files_of_the_run_that_never_stopped() {
+    use std::os::unix::process::ExitStatusExt;
+    let root = env!("CARGO_TARGET_TMPDIR");
+    // ~1.5 s each on 2 cores: ten times what two checkpoints 0.05 s apart and a kill need
+    let grid = scene_text("tiny-fem-center-crack").replace("element_size = 1e-3 ", "element_size = 2e-4 ");
+    let mesh = scene_text("tiny-fem-arc-shear")
+        .replace("duration = 0.3 ", "duration = 4.0 ")
+        .replace("\"../meshes/arc.msh\"", "\"arc.msh\"");
+    for (name, text) in [("cli-grid", grid), ("cli-mesh", mesh)] {
+        let t = preflight::testing::Trial::new(root, &format!("checkpoint-{name}"), &text);
+        let msh = t.dir.join("arc.msh");
+        std::fs::copy(
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../meshes/arc.msh"),
+            &msh,
+        )
+        .unwrap();
+        let whole = t.dir.join("whole");
+        let o = fem(&[t.scene.as_os_str(), "--out".as_ref(), whole.as_os_str()]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+
+        let (mut child, _) = preflight::testing::started(
+            Command::new(env!("CARGO_BIN_EXE_fem"))
+                .arg(&t.scene)
+                .arg("--out")
+                .arg(&t.out)
+                .args(["--checkpoint-every", "0.05"]),
+        );
+        let file = t.out.join(checkpoint::FILE);
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+        let first = loop {
+            if let Some(m) = modified(&file) {
+                break m;
+            }
+            assert!(
+                std::time::Instant::now() < deadline,
+                "{name}: no checkpoint written"
+            );
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        };
+        while modified(&file) == Some(first) {
+            assert!(
+                std::time::Instant::now() < deadline,
+                "{name}: no second checkpoint"
+            );
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        child.kill().unwrap();
+        let status = child.wait().unwrap();
+        assert_eq!(
+            status.signal(),
+            Some(libc::SIGKILL),
+            "{name}: the run ended before the kill"
+        );
+
+        // a changed value and a changed mesh are refused, before any work
+        let changed = t.dir.join("changed.toml");
+        std::fs::write(
+            &changed,
+            text.replace("friction_coeff = 0.3 ", "friction_coeff = 0.4 "),
+        )
+        .unwrap();
+        let o = fem(&[changed.as_os_str(), "--resume".as_ref(), t.out.as_os_str()]);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && o.stdout.is_empty(), "{name}: {stderr}");
+        assert!(
+            stderr.contains("the scene changed since the checkpoint: friction.friction_coeff: 0.3 → 0.4;"),
+            "{name}: {stderr}"
+        );
+        if name == "cli-mesh" {
+            let kept = std::fs::read(&msh).unwrap();
+            std::fs::write(&msh, [&kept[..], b"\n"].concat()).unwrap();
+            let o = fem(&[t.scene.as_os_str(), "--resume".as_ref(), t.out.as_os_str()]);
+            let stderr = String::from_utf8_lossy(&o.stderr);
+            assert!(!o.status.success() && o.stdout.is_empty(), "{stderr}");
+            assert!(
+                stderr.contains("arc.msh changed since the checkpoint"),
+                "{stderr}"
+            );
+            std::fs::write(&msh, kept).unwrap();
+        }
+
+        let o = fem(&[t.scene.as_os_str(), "--resume".as_ref(), t.out.as_os_str()]);
+        let stdout = String::from_utf8_lossy(&o.stdout);
+        assert!(
+            o.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let at = stdout
+            .split("resuming from the checkpoint at step ")
+            .nth(1)
+            .and_then(|r| r.split(' ').next())
+            .and_then(|n| n.parse::<u64>().ok())
+            .unwrap_or_else(|| panic!("{name}: {stdout}"));
+        assert!(at > 0, "{name}: resumed at step {at}");
+        // this process computed the steps after the checkpoint, and only those
+        let total = fem::estimate(&Scene::from_toml_str_in(&text, &t.dir).unwrap()).steps;
+        assert!(
+            stdout.contains(&format!(
+                "\n{} steps (steps {} to {total}, resumed)",
+                total - at,
+                at + 1
+            )),
+            "{name}: {stdout}"
+        );
+        assert!(!file.exists(), "{name}: a finished run keeps no checkpoint");
+        assert_same_files(&whole, &t.out);
+    }
+}

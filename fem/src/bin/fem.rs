@@ -139,8 +139,9 @@ fn why(ended: &RunEnded<fem::RunOutput>) -> Option<String> {
     }
 }
 
-/// Writes the run's records (complete or partial) and says what went where: the time profile,
-/// the files, the ParaView collection, the cracks, and contacts lost to the detection distance.
+/// Writes the run's records (complete or partial) and says what went where: the time profile of
+/// the steps this process computed (after its checkpoint, for a resumed run), the files, the
+/// ParaView collection, the cracks, and contacts lost to the detection distance.
 fn report(
     scene: &fem::Scene,
     output: &fem::RunOutput,
@@ -149,13 +150,19 @@ fn report(
     fields: Option<&fem::ParaviewWriter>,
 ) -> anyhow::Result<()> {
     let files = fem::write_csv(output, out_dir).with_context(|| format!("writing {}", out_dir.display()))?;
+    let from = output.resumed_from;
+    let computed = output.steps.saturating_sub(from);
+    let resumed = if from > 0 {
+        format!(" (steps {} to {}, resumed)", from + 1, output.steps)
+    } else {
+        String::new()
+    };
     println!(
-        "{} steps, dt = {:.4e} s, wall {:.1} s on {} thread(s); where the time went:\n{}",
-        output.steps,
+        "{computed} steps{resumed}, dt = {:.4e} s, wall {:.1} s on {} thread(s); where the time went:\n{}",
         output.time_step,
         started.elapsed().as_secs_f64(),
         rayon::current_num_threads(),
-        fem::profile::table(&output.profile, output.steps, output.elements)
+        fem::profile::table(&output.profile, computed, output.elements)
     );
     for f in files {
         println!("wrote {}", f.display());

@@ -75,6 +75,7 @@ pub(crate) fn restore(
             back.facets.inserted.len()
         ));
     }
+    let back_step = back.step;
     keep_capacity(&mut back.facets.active, &state.facets.active);
     if let (Some(b), Some(s)) = (back.contact.as_mut(), state.contact.as_mut()) {
         b.surface.keep_capacity(&s.surface);
@@ -86,6 +87,7 @@ pub(crate) fn restore(
     let profile = std::mem::take(&mut out.profile);
     *out = records;
     out.profile = profile;
+    out.resumed_from = back_step;
     snapshots
         .resume(snapshot_last, snapshots_taken)
         .map_err(|e| format!("the stopped run's later snapshots: {e}"))
