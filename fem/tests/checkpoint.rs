@@ -1,4 +1,4 @@
-//! Checkpoint and restart (docs/reliability.md): a run stopped part-way and resumed from its
+//! Checkpoint and restart (docs/checkpoints.md): a run stopped part-way and resumed from its
 //! checkpoint writes the same files, byte for byte, as the run that never stopped — on the
 //! structured grid (whose one-pass sweep leaves the next step's predictor in the state between
 //! steps), on a Gmsh mesh with two interface chains, and with ParaView snapshots; and through the

@@ -1,5 +1,5 @@
 //! Checkpoints: the complete state of a run, written into its output folder while it runs, from
-//! which a killed run resumes (`--checkpoint-every SECONDS`, `--resume DIR`; docs/reliability.md).
+//! which a killed run resumes (`--checkpoint-every SECONDS`, `--resume DIR`; docs/checkpoints.md).
 //!
 //! A checkpoint is one file, [`FILE`], written atomically ([`crate::save`]), so a kill during a
 //! write leaves the previous checkpoint whole. It holds:

@@ -1,4 +1,4 @@
-//! What a checkpoint of the FE model holds (docs/reliability.md, `preflight::checkpoint`): the
+//! What a checkpoint of the FE model holds (docs/checkpoints.md, `preflight::checkpoint`): the
 //! whole evolving [`State`] (nodal vectors, facet states, tied pairs, contact surface and
 //! history, σ̃, energy totals, boundary history), whether the free nodes already hold the next
 //! step's predictor ([`Workspace::predicted`]), the records so far, and which ParaView snapshots

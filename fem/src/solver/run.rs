@@ -88,7 +88,7 @@ pub fn run_with_fields(
     run_checkpointed(scene, progress, stop, fields, None, None)
 }
 
-/// As [`run_with_fields`], with checkpoints (docs/reliability.md):
+/// As [`run_with_fields`], with checkpoints (docs/checkpoints.md):
 /// - with `checkpoints`, the complete state is written whenever the writer says one is due (it
 ///   is asked a few hundred times per run, between steps), and when the run is stopped on
 ///   request, so that the run can be resumed; a checkpoint that cannot be written stops the run
