@@ -1,10 +1,11 @@
 //! Line charts: curves (solid, dashed or markers), reference marks and shaded x-intervals, on
 //! linear or logarithmic axes (plotters' own log scale).
 
+use super::file::figure;
 use super::style::{
     Chart, Curve, FONT, Labels, Mark, SIZE, draw_axes, draw_curves, draw_legend, register_font,
 };
-use anyhow::{Context, Result};
+use anyhow::Result;
 use plotters::coord::ranged1d::ValueFormatter;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
@@ -128,34 +129,34 @@ pub fn line_chart_shaded(
 pub fn draw(path: &Path, chart: &LineChart) -> Result<()> {
     register_font()?;
     let ((x0, x1), (y0, y1)) = bounds(chart);
-    let root = BitMapBackend::new(path, SIZE).into_drawing_area();
-    root.fill(&WHITE)?;
-    let mut builder = ChartBuilder::on(&root);
-    builder
-        .caption(chart.labels.title, (FONT, 26))
-        .margin(15)
-        .x_label_area_size(55)
-        .y_label_area_size(85);
-    match (chart.log.x, chart.log.y) {
-        (false, false) => finish(builder.build_cartesian_2d(x0..x1, y0..y1)?, chart, (y0, y1))?,
-        (true, false) => finish(
-            builder.build_cartesian_2d((x0..x1).log_scale(), y0..y1)?,
-            chart,
-            (y0, y1),
-        )?,
-        (false, true) => finish(
-            builder.build_cartesian_2d(x0..x1, (y0..y1).log_scale())?,
-            chart,
-            (y0, y1),
-        )?,
-        (true, true) => finish(
-            builder.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?,
-            chart,
-            (y0, y1),
-        )?,
-    }
-    root.present()
-        .with_context(|| format!("writing {}", path.display()))
+    figure(path, SIZE, |root| {
+        root.fill(&WHITE)?;
+        let mut builder = ChartBuilder::on(root);
+        builder
+            .caption(chart.labels.title, (FONT, 26))
+            .margin(15)
+            .x_label_area_size(55)
+            .y_label_area_size(85);
+        match (chart.log.x, chart.log.y) {
+            (false, false) => finish(builder.build_cartesian_2d(x0..x1, y0..y1)?, chart, (y0, y1))?,
+            (true, false) => finish(
+                builder.build_cartesian_2d((x0..x1).log_scale(), y0..y1)?,
+                chart,
+                (y0, y1),
+            )?,
+            (false, true) => finish(
+                builder.build_cartesian_2d(x0..x1, (y0..y1).log_scale())?,
+                chart,
+                (y0, y1),
+            )?,
+            (true, true) => finish(
+                builder.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?,
+                chart,
+                (y0, y1),
+            )?,
+        }
+        Ok(())
+    })
 }
 
 fn finish<'a, 'b: 'a, X, Y>(mut chart: Chart<'a, 'b, X, Y>, c: &LineChart, (y0, y1): (f64, f64)) -> Result<()>

@@ -2,10 +2,11 @@
 //! top (paper Figure 10: σ_yy around the interface). Draws what it is given.
 
 use super::contour::{GridCell, Segment};
+use super::file::figure;
 use super::style::{
     Curve, FONT, Labels, Scale, draw_axes, draw_colour_bar, draw_curves, draw_legend, register_font,
 };
-use anyhow::{Context, Result, anyhow};
+use anyhow::{Result, anyhow};
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -109,44 +110,44 @@ pub fn map_with_contours(path: &Path, labels: Labels, map: &Map, scale: &Scale) 
     let (xr, yr) = (fold(|c| c.x), covered_y(&map.cells).unwrap_or(fold(|c| c.y)));
     let plot_w = 1100;
     let size = (plot_w + 85 + 130 + 30, plot_height(plot_w, xr, yr) + 55 + 45 + 30);
-    let root = BitMapBackend::new(path, size).into_drawing_area();
-    root.fill(&WHITE)?;
-    let (main, bar) = root.split_horizontally(size.0 - 130);
-    let mut chart = ChartBuilder::on(&main)
-        .caption(labels.title, (FONT, 24))
-        .margin(15)
-        .x_label_area_size(55)
-        .y_label_area_size(85)
-        .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)?;
-    draw_axes(&mut chart, labels, false, (false, false))?;
-    chart.draw_series(map.cells.iter().map(|c| {
-        Rectangle::new(
-            [(c.x.0, c.y.0), (c.x.1, c.y.1)],
-            diverging(c.value, scale).filled(),
-        )
-    }))?;
-    for set in &map.contours {
-        let color = set.color;
-        // plotters moves a point outside the axes onto the frame instead of cutting the line
-        // there, so the segments are cut at the frame first
-        let anno = chart.draw_series(
-            set.segments
-                .iter()
-                .filter_map(|&(a, b)| clip(a, b, xr, yr))
-                .map(|(a, b)| PathElement::new(vec![a, b], color.stroke_width(1))),
-        )?;
-        if let Some(l) = &set.label {
-            anno.label(l.clone())
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(1)));
+    figure(path, size, |root| {
+        root.fill(&WHITE)?;
+        let (main, bar) = root.split_horizontally(size.0 - 130);
+        let mut chart = ChartBuilder::on(&main)
+            .caption(labels.title, (FONT, 24))
+            .margin(15)
+            .x_label_area_size(55)
+            .y_label_area_size(85)
+            .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)?;
+        draw_axes(&mut chart, labels, false, (false, false))?;
+        chart.draw_series(map.cells.iter().map(|c| {
+            Rectangle::new(
+                [(c.x.0, c.y.0), (c.x.1, c.y.1)],
+                diverging(c.value, scale).filled(),
+            )
+        }))?;
+        for set in &map.contours {
+            let color = set.color;
+            // plotters moves a point outside the axes onto the frame instead of cutting the line
+            // there, so the segments are cut at the frame first
+            let anno = chart.draw_series(
+                set.segments
+                    .iter()
+                    .filter_map(|&(a, b)| clip(a, b, xr, yr))
+                    .map(|(a, b)| PathElement::new(vec![a, b], color.stroke_width(1))),
+            )?;
+            if let Some(l) = &set.label {
+                anno.label(l.clone())
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(1)));
+            }
         }
-    }
-    draw_curves(&mut chart, &map.lines)?;
-    if !map.lines.is_empty() || map.contours.iter().any(|c| c.label.is_some()) {
-        draw_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
-    }
-    draw_colour_bar(&bar, scale, |v| diverging(v, scale))?;
-    root.present()
-        .with_context(|| format!("writing {}", path.display()))
+        draw_curves(&mut chart, &map.lines)?;
+        if !map.lines.is_empty() || map.contours.iter().any(|c| c.label.is_some()) {
+            draw_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
+        }
+        draw_colour_bar(&bar, scale, |v| diverging(v, scale))?;
+        Ok(())
+    })
 }
 
 #[cfg(test)]

@@ -3,12 +3,14 @@
 //! is given; computes nothing. Shared by every study's figures.
 
 mod contour;
+mod file;
 mod lines;
 mod map;
 mod space_time;
 mod style;
 
 pub use contour::{CentroidGrid, GridCell, Segment};
+pub use file::figure;
 pub use lines::{LineChart, LogAxes, Shading, draw, line_chart, line_chart_shaded};
 pub use map::{ContourSet, Map, diverging, map_with_contours};
 pub use space_time::{Field, space_time};

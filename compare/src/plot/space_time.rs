@@ -1,10 +1,11 @@
 //! Space-time diagrams (paper Figures 5b, 6a, 6b): a field over position and time, drawn cell by
 //! cell with plotters' viridis colour map and a colour bar.
 
+use super::file::figure;
 use super::style::{
     Curve, FONT, Labels, SIZE, Scale, draw_axes, draw_colour_bar, draw_curves, draw_legend, register_font,
 };
-use anyhow::{Context, Result, anyhow};
+use anyhow::{Result, anyhow};
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -90,36 +91,36 @@ pub fn space_time(path: &Path, labels: Labels, field: &Field, scale: &Scale, lin
         ));
     }
     register_font()?;
-    let root = BitMapBackend::new(path, SIZE).into_drawing_area();
-    root.fill(&WHITE)?;
-    let (main, bar) = root.split_horizontally(SIZE.0 - 130);
-    let (xe, te) = (cell_edges(&field.x), cell_edges(&field.t));
-    let (x0, x1) = (xe[0].0, xe[nx - 1].1);
-    let (t0, t1) = (te[0].0, te[nt - 1].1);
-    let mut chart = ChartBuilder::on(&main)
-        .caption(labels.title, (FONT, 26))
-        .margin(15)
-        .x_label_area_size(55)
-        .y_label_area_size(75)
-        .build_cartesian_2d(x0..x1, t0..t1)?;
-    draw_axes(&mut chart, labels, false, (false, false))?;
-    let cells = field.values.iter().enumerate().flat_map(|(it, row)| {
-        let (te, xe) = (&te, &xe);
-        row.iter().enumerate().map(move |(ix, &v)| {
-            Rectangle::new(
-                [(xe[ix].0, te[it].0), (xe[ix].1, te[it].1)],
-                viridis(v, scale).filled(),
-            )
-        })
-    });
-    chart.draw_series(cells)?;
-    if !lines.is_empty() {
-        draw_curves(&mut chart, lines)?;
-        draw_legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
-    }
-    draw_colour_bar(&bar, scale, |v| viridis(v, scale))?;
-    root.present()
-        .with_context(|| format!("writing {}", path.display()))
+    figure(path, SIZE, |root| {
+        root.fill(&WHITE)?;
+        let (main, bar) = root.split_horizontally(SIZE.0 - 130);
+        let (xe, te) = (cell_edges(&field.x), cell_edges(&field.t));
+        let (x0, x1) = (xe[0].0, xe[nx - 1].1);
+        let (t0, t1) = (te[0].0, te[nt - 1].1);
+        let mut chart = ChartBuilder::on(&main)
+            .caption(labels.title, (FONT, 26))
+            .margin(15)
+            .x_label_area_size(55)
+            .y_label_area_size(75)
+            .build_cartesian_2d(x0..x1, t0..t1)?;
+        draw_axes(&mut chart, labels, false, (false, false))?;
+        let cells = field.values.iter().enumerate().flat_map(|(it, row)| {
+            let (te, xe) = (&te, &xe);
+            row.iter().enumerate().map(move |(ix, &v)| {
+                Rectangle::new(
+                    [(xe[ix].0, te[it].0), (xe[ix].1, te[it].1)],
+                    viridis(v, scale).filled(),
+                )
+            })
+        });
+        chart.draw_series(cells)?;
+        if !lines.is_empty() {
+            draw_curves(&mut chart, lines)?;
+            draw_legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
+        }
+        draw_colour_bar(&bar, scale, |v| viridis(v, scale))?;
+        Ok(())
+    })
 }
 
 /// Cell extents around sample positions `v` (increasing): each cell reaches halfway to its
