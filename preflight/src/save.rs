@@ -37,9 +37,10 @@ pub fn atomically<T>(
         ));
     }
     let tmp = path.with_file_name(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
-    // a temporary file left by a killed run of the same process id: it is ours to replace
+    // a temporary file left by a killed run of the same process id: it is ours to replace (an
+    // error here, e.g. a folder that is a file, is the target's: it names the file asked for)
     match std::fs::remove_file(&tmp) {
-        Err(e) if e.kind() != io::ErrorKind::NotFound => return Err(naming(&tmp, e)),
+        Err(e) if e.kind() != io::ErrorKind::NotFound => return Err(naming(path, e)),
         _ => {}
     }
     let result = (|| {
@@ -144,6 +145,20 @@ mod tests {
         std::os::unix::fs::symlink(&dir, dir.join("fields")).unwrap();
         let e = subfolder(&dir, "fields").unwrap_err().to_string();
         assert!(e.contains("fields is a symbolic link"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A file in a folder that is not a folder is refused naming the file asked for, not the
+    /// temporary file beside it.
+    #[test]
+    fn an_impossible_write_names_the_file_asked_for() {
+        let dir = scratch("not-a-folder");
+        let file = dir.join("plain");
+        std::fs::write(&file, "x").unwrap();
+        let path = file.join("run.csv");
+        let e = bytes(&path, b"y").unwrap_err().to_string();
+        assert!(e.starts_with(&format!("{}: ", path.display())), "{e}");
+        assert!(!e.contains(".tmp"), "{e}");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
