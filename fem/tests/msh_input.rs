@@ -1,6 +1,7 @@
-//! Bad MSH 4.1 input refused before any work, naming the section, the node and the line, and
-//! quoting at most one line: node tags honoured whatever the `$Nodes` header says, header counts
-//! checked against the body, causes named right, files read through the mesh size cap.
+//! Bad MSH 4.1 input refused before any work, naming the section, the node or element and the line
+//! (or byte), and quoting at most one line: node tags honoured whatever the `$Nodes` header says,
+//! node and element tags checked against their header, header counts checked against the body
+//! (ASCII and binary), causes named right, files read through the mesh size cap.
 
 use fem::gmsh::UnstructuredMesh;
 use std::path::PathBuf;
@@ -17,10 +18,7 @@ fn text(name: &str) -> String {
 
 /// The reader's error on `text`, which must be refused.
 fn refused(text: &str) -> String {
-    match UnstructuredMesh::from_msh_bytes(text.as_bytes()) {
-        Ok(_) => panic!("accepted"),
-        Err(e) => e.to_string(),
-    }
+    refused_bytes(text.as_bytes())
 }
 
 /// Line (1-based) of `text` equal to `line`, from line `from` on.
@@ -107,21 +105,11 @@ fn node_tags_zero_and_beyond_the_header_are_refused_with_their_lines() {
 
 #[test]
 fn a_duplicated_node_tag_in_a_binary_file_is_refused_with_its_offset() {
-    let mut b = std::fs::read(path("rect_mixed_bin.msh")).unwrap();
-    let nodes = b.windows(7).position(|w| w == b"$Nodes\n").unwrap() + 7;
-    // Header: 4 size_t; each block: 3 int + 1 size_t, then its tags.
-    let mut at = nodes + 32;
-    loop {
-        let n = u64::from_le_bytes(b[at + 12..at + 20].try_into().unwrap()) as usize;
-        if n >= 2 {
-            break;
-        }
-        at += 20 + n * 8 + n * 24;
-    }
-    let first = at + 20;
+    let (mut b, _, blocks) = binary_blocks("Nodes");
+    let first = blocks.iter().find(|k| k.2 >= 2).unwrap().0 + 20;
     let tag = b[first..first + 8].to_vec();
     b[first + 8..first + 16].copy_from_slice(&tag);
-    let e = UnstructuredMesh::from_msh_bytes(&b).unwrap_err().to_string();
+    let e = refused_bytes(&b);
     let tag = u64::from_le_bytes(tag.try_into().unwrap());
     let want = format!("node tag {tag} at byte {} is defined twice", first + 8);
     assert!(e.contains(&want), "{e}");
@@ -289,4 +277,137 @@ fn dev_zero_as_a_mesh_is_refused_by_the_cap() {
             && e.contains("COHESIVE_MAX_MESH_BYTES"),
         "{e}"
     );
+}
+
+/// The reader's error on the bytes `b`, which must be refused.
+fn refused_bytes(b: &[u8]) -> String {
+    match UnstructuredMesh::from_msh_bytes(b) {
+        Ok(_) => panic!("accepted"),
+        Err(e) => e.to_string(),
+    }
+}
+
+/// The binary mixed mesh, the byte offset of the header of its section `$name` (`Nodes` or
+/// `Elements`) and its blocks, each as (byte offset of its header, bytes per node or element,
+/// count).
+fn binary_blocks(name: &str) -> (Vec<u8>, usize, Vec<(usize, usize, u64)>) {
+    let b = std::fs::read(path("rect_mixed_bin.msh")).unwrap();
+    let body = b
+        .windows(name.len() + 2)
+        .position(|w| w == format!("${name}\n").as_bytes());
+    let body = body.unwrap() + name.len() + 2;
+    let word = |at: usize| u64::from_le_bytes(b[at..at + 8].try_into().unwrap());
+    let int = |at: usize| i32::from_le_bytes(b[at..at + 4].try_into().unwrap()) as usize;
+    // Header: 4 size_t; each block: 3 int + 1 size_t, then its records.
+    let (mut blocks, mut at) = (Vec::new(), body + 32);
+    for _ in 0..word(body) {
+        let record = match name {
+            "Nodes" => 8 * (4 + int(at) * int(at + 8)),
+            _ => 8 * (1 + [0, 2, 3, 4][int(at + 8)]),
+        };
+        let n = word(at + 12);
+        blocks.push((at, record, n));
+        at += 20 + n as usize * record;
+    }
+    assert_eq!(&b[at..at + 5 + name.len()], format!("\n$End{name}").as_bytes());
+    (b, body, blocks)
+}
+
+/// `b` with the 8 bytes at `at` set to `value` (little-endian).
+fn with_word(b: &[u8], at: usize, value: u64) -> Vec<u8> {
+    let mut b = b.to_vec();
+    b[at..at + 8].copy_from_slice(&value.to_le_bytes());
+    b
+}
+
+#[test]
+fn binary_counts_against_the_body_are_refused_with_both_counts() {
+    for (name, what) in [("Elements", "elements"), ("Nodes", "nodes")] {
+        let (b, body, blocks) = binary_blocks(name);
+        let total: u64 = blocks.iter().map(|k| k.2).sum();
+        let e = refused_bytes(&with_word(&b, body + 8, total + 1));
+        let want = format!(
+            "${name} header at byte {body} declares {} {what}, found {total}",
+            total + 1
+        );
+        assert!(e.contains(&want), "{e}");
+        for by in [n_plus(1), n_plus(-1)] {
+            let e = refused_bytes(&with_word(&b, body, by(blocks.len() as u64)));
+            let want = format!(
+                "${name} header at byte {body} declares {} entity blocks, found {}",
+                by(blocks.len() as u64),
+                blocks.len()
+            );
+            assert!(e.contains(&want), "{e}");
+        }
+        // A block's count one above (the last block) and one below (the first) its records.
+        for ((at, _, n), by) in [(blocks[blocks.len() - 1], n_plus(1)), (blocks[0], n_plus(-1))] {
+            let e = refused_bytes(&with_word(&b, at + 12, by(n)));
+            let want = format!(
+                "${name} block header at byte {at} declares {} {what}, found {n}",
+                by(n)
+            );
+            assert!(e.contains(&want), "{e}");
+        }
+    }
+}
+
+/// Adds `d` to a count.
+fn n_plus(d: i64) -> impl Fn(u64) -> u64 {
+    move |n| n.checked_add_signed(d).unwrap()
+}
+
+#[test]
+fn element_tags_zero_beyond_the_header_and_twice_are_refused_with_their_lines() {
+    let t = text("rect_tri.msh");
+    let first = line_no(&t, "$Elements", 0) + 3;
+    let second: Vec<&str> = t.lines().nth(first).unwrap().split_whitespace().collect();
+    for tag in ["0", "389"] {
+        let e = refused(&with_line(&t, first, &format!("{tag} 1 9")));
+        let want = format!("element tag {tag} at line {first} is outside the range 1..=388");
+        assert!(e.contains(&want), "{tag}: {e}");
+    }
+    let e = refused(&with_line(&t, first + 1, &format!("1 {}", second[1..].join(" "))));
+    let want = format!(
+        "element tag 1 at line {} is defined twice (first at line {first})",
+        first + 1
+    );
+    assert!(e.contains(&want), "{e}");
+}
+
+#[test]
+fn element_tags_in_a_binary_file_zero_beyond_and_twice_are_refused_with_their_offsets() {
+    let (b, body, blocks) = binary_blocks("Elements");
+    let max = u64::from_le_bytes(b[body + 24..body + 32].try_into().unwrap());
+    let (first, record) = (blocks[0].0 + 20, blocks[0].1);
+    for tag in [0, max + 1] {
+        let e = refused_bytes(&with_word(&b, first, tag));
+        let want = format!("element tag {tag} at byte {first} is outside the range 1..={max}");
+        assert!(e.contains(&want), "{tag}: {e}");
+    }
+    let e = refused_bytes(&with_word(&b, first + record, 1));
+    let want = format!(
+        "element tag 1 at byte {} is defined twice (first at byte {first})",
+        first + record
+    );
+    assert!(e.contains(&want), "{e}");
+}
+
+#[test]
+fn an_element_on_a_node_the_file_does_not_define_is_refused_naming_both() {
+    let t = text("rect_tri.msh");
+    let first = line_no(&t, "$Elements", 0) + 3;
+    // 0, beyond the header's range, and inside a range widened past the last tag.
+    let (wide, _) = with_header(&t, "$Nodes", "19 183 1 200");
+    for (file, node) in [(&t, 0), (&t, 184), (&wide, 190)] {
+        let e = refused(&with_line(file, first, &format!("1 1 {node}")));
+        let want = format!("element 1 references node {node}, which the file does not define");
+        assert!(e.contains(&want), "{node}: {e}");
+    }
+    let (b, _, blocks) = binary_blocks("Elements");
+    for node in [0, 184] {
+        let e = refused_bytes(&with_word(&b, blocks[0].0 + 28, node));
+        let want = format!("element 1 references node {node}, which the file does not define");
+        assert!(e.contains(&want), "{node}: {e}");
+    }
 }

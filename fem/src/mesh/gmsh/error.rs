@@ -61,6 +61,16 @@ pub enum MeshError {
         /// Why it is refused.
         reason: String,
     },
+    /// An element tag that is 0, outside the `$Elements` header's range, or given twice.
+    #[error("element tag {tag} at {at} is {reason}")]
+    BadElementTag {
+        /// The tag.
+        tag: u64,
+        /// Where: `line N` (1-based) or `byte N`.
+        at: String,
+        /// Why it is refused.
+        reason: String,
+    },
     /// A node coordinate that is NaN or infinite.
     #[error("node {node} ({at}) has a coordinate that is not a finite number")]
     NonFiniteNode {

@@ -13,18 +13,21 @@
 //! names those tags. Bulk elements are counter-clockwise; local edge `k` of an element joins its
 //! nodes `k` and `k + 1` (cyclically), so the element lies to the left of its edges.
 //!
-//! Parts: the mesh types are here; `scan` checks a file's structure (counts, tags, lines), `scan_binary`
-//! the node tags of a binary file, `read` reads and checks a file, `query` answers questions on a
-//! read mesh, `chains` orders an interface's lines into chains, `split` twins their nodes, and
-//! `error` holds [`MeshError`].
+//! Parts: the mesh types are here; `scan` checks a file's structure (counts, tags, lines) with
+//! `lines` (the file as lines), `scan_elements` (an ASCII `$Elements`), `scan_binary` (a binary
+//! `$Nodes` and `$Elements`) and `located` (the tag rules they share); `read` reads and checks a
+//! file, `query` answers questions on a read mesh, `chains` orders an interface's lines into
+//! chains, `split` twins their nodes, and `error` holds [`MeshError`].
 
 mod chains;
 mod error;
+mod lines;
 mod located;
 mod query;
 mod read;
 mod scan;
 mod scan_binary;
+mod scan_elements;
 mod split;
 
 pub use chains::{Chain, Segment, interface_chains, interface_chains_of};
