@@ -22,10 +22,9 @@ use std::borrow::Cow;
 
 use serde::{Deserialize, Serialize};
 
-use crate::elastodynamics::FaceFields;
+use crate::elastodynamics::{FaceFields, OperatorState};
 use crate::error::RunError;
-use crate::fast;
-use crate::history::Entry;
+use crate::history::fill;
 use crate::law::point::Point;
 use crate::output::{ContactMeanRecord, FieldRecord, RunOutput, TipRecord};
 use crate::solver::{Model, State, Workspace};
@@ -69,61 +68,6 @@ pub(crate) struct Saved<'a> {
     pub contact: Cow<'a, [ContactMeanRecord]>,
     /// Field-snapshot records so far.
     pub fields: Cow<'a, [FieldRecord]>,
-}
-
-/// The history of an [`crate::Operator`], in its shape.
-#[derive(Debug, Serialize, Deserialize)]
-pub(crate) enum OperatorState<'a> {
-    /// Two identical half-spaces: one operator.
-    Identical(HalfSpaceState<'a>),
-    /// Two materials: the top and the bottom half-space's operators.
-    Split {
-        /// The top (y > 0) material's.
-        top: HalfSpaceState<'a>,
-        /// The bottom (y < 0) material's.
-        bottom: HalfSpaceState<'a>,
-    },
-}
-
-/// The history of one [`crate::HalfSpaces`] operator, by convolution path.
-#[derive(Debug, Serialize, Deserialize)]
-pub(crate) enum HalfSpaceState<'a> {
-    /// Direct path (§4.1).
-    Direct(HistoryState<'a>),
-    /// Fast path (§4.3).
-    Fast(FastState<'a>),
-}
-
-/// The direct path's ring buffers (§4.1; `crate::history::History`).
-#[derive(Debug, Serialize, Deserialize)]
-pub(crate) struct HistoryState<'a> {
-    /// Past spectra Û of every mode j ≥ 1, Σ_j L_j entries at the modes' offsets [m].
-    pub entries: Cow<'a, [Entry]>,
-    /// Write position of each mode in its window [-].
-    pub pos: Cow<'a, [usize]>,
-    /// Steps pushed so far [-].
-    pub stored: usize,
-}
-
-/// The fast path's recursion states (§4.3; `crate::fast::FastConvolution`).
-#[derive(Debug, Serialize, Deserialize)]
-pub(crate) struct FastState<'a> {
-    /// s_{j,p}(n) at [j r + p], mode 0 included (unused, zero).
-    pub states: Cow<'a, [fast::State]>,
-}
-
-/// Copies `from` into `into`, which must have its length (the buffers a resumed run built keep
-/// their allocation); `what` names the buffer in the refusal.
-pub(crate) fn fill<T: Copy>(into: &mut [T], from: &[T], what: &str) -> Result<(), String> {
-    if into.len() != from.len() {
-        return Err(format!(
-            "its {what} hold {} values, this scene's model {}",
-            from.len(),
-            into.len()
-        ));
-    }
-    into.copy_from_slice(from);
-    Ok(())
 }
 
 /// Time of the last step done [s] (0 before the first).

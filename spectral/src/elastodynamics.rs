@@ -10,12 +10,12 @@ use std::sync::Arc;
 
 use rustfft::num_complex::Complex64;
 use rustfft::{Fft, FftPlanner};
+use serde::{Deserialize, Serialize};
 
-use crate::checkpoint::{HalfSpaceState, OperatorState};
 use crate::convolution::{self, ModeSums, Weights};
 use crate::error::BuildError;
-use crate::fast::{FastConvolution, SoeFit};
-use crate::history::{Entry, History};
+use crate::fast::{FastConvolution, FastState, SoeFit};
+use crate::history::{Entry, History, HistoryState};
 use crate::kernels::Kernels;
 use crate::modes::Modes;
 use crate::scene::Convolution;
@@ -396,4 +396,27 @@ fn fft_pair(plan: &Arc<dyn Fft<f64>>, [a, b]: [&mut Vec<Complex64>; 2], [sa, sb]
         || plan.process_with_scratch(a, sa),
         || plan.process_with_scratch(b, sb),
     );
+}
+
+/// The history of an [`crate::Operator`], in its shape.
+#[derive(Debug, Serialize, Deserialize)]
+pub(crate) enum OperatorState<'a> {
+    /// Two identical half-spaces: one operator.
+    Identical(HalfSpaceState<'a>),
+    /// Two materials: the top and the bottom half-space's operators.
+    Split {
+        /// The top (y > 0) material's.
+        top: HalfSpaceState<'a>,
+        /// The bottom (y < 0) material's.
+        bottom: HalfSpaceState<'a>,
+    },
+}
+
+/// The history of one [`crate::HalfSpaces`] operator, by convolution path.
+#[derive(Debug, Serialize, Deserialize)]
+pub(crate) enum HalfSpaceState<'a> {
+    /// Direct path (§4.1).
+    Direct(HistoryState<'a>),
+    /// Fast path (§4.3).
+    Fast(FastState<'a>),
 }

@@ -17,10 +17,10 @@ use std::borrow::Cow;
 
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
+use serde::{Deserialize, Serialize};
 
-use crate::checkpoint::{FastState, fill};
 use crate::convolution::ModeSums;
-use crate::history::Entry;
+use crate::history::{Entry, fill};
 use crate::modes::Modes;
 pub use crate::soe::SoeFit;
 
@@ -191,4 +191,11 @@ impl FastConvolution {
                 };
             });
     }
+}
+
+/// The fast path's recursion states (§4.3; `crate::fast::FastConvolution`).
+#[derive(Debug, Serialize, Deserialize)]
+pub(crate) struct FastState<'a> {
+    /// s_{j,p}(n) at [j r + p], mode 0 included (unused, zero).
+    pub states: Cow<'a, [State]>,
 }

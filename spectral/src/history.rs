@@ -7,7 +7,6 @@ use std::borrow::Cow;
 use rustfft::num_complex::Complex64;
 use serde::{Deserialize, Serialize};
 
-use crate::checkpoint::{HistoryState, fill};
 use crate::modes::Modes;
 
 /// Spectra of one mode at one step: Û^+_1, Û^+_2, Û^-_1, Û^-_2 [m].
@@ -169,4 +168,29 @@ mod tests {
         let v: Vec<f64> = a.iter().chain(b).map(|e| e.top_x.re).collect();
         assert_eq!(v, vec![3.0, 2.0]);
     }
+}
+
+/// The direct path's ring buffers (§4.1; `crate::history::History`).
+#[derive(Debug, Serialize, Deserialize)]
+pub(crate) struct HistoryState<'a> {
+    /// Past spectra Û of every mode j ≥ 1, Σ_j L_j entries at the modes' offsets [m].
+    pub entries: Cow<'a, [Entry]>,
+    /// Write position of each mode in its window [-].
+    pub pos: Cow<'a, [usize]>,
+    /// Steps pushed so far [-].
+    pub stored: usize,
+}
+
+/// Copies `from` into `into`, which must have its length (the buffers a resumed run built keep
+/// their allocation); `what` names the buffer in the refusal.
+pub(crate) fn fill<T: Copy>(into: &mut [T], from: &[T], what: &str) -> Result<(), String> {
+    if into.len() != from.len() {
+        return Err(format!(
+            "its {what} hold {} values, this scene's model {}",
+            from.len(),
+            into.len()
+        ));
+    }
+    into.copy_from_slice(from);
+    Ok(())
 }
