@@ -26,16 +26,7 @@ fn scene(text: &str) -> Scene {
 }
 
 fn header(text: &str, steps: u64) -> Header {
-    Header {
-        model: "fem".into(),
-        version: "test".into(),
-        scene: text.into(),
-        inputs: Vec::new(),
-        every_s: 0.0,
-        step: 0,
-        time_s: 0.0,
-        total_steps: steps,
-    }
+    Header::new("fem", "test", text, Vec::new(), steps)
 }
 
 /// Every file of `dir` (ParaView snapshots in `fields/` included), by name, with its bytes.

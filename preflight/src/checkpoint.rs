@@ -48,6 +48,23 @@ pub struct Header {
     pub total_steps: u64,
 }
 
+impl Header {
+    /// The header of a run of `model` (its `version`) on the scene `scene` (its text) reading
+    /// `inputs`, of `total_steps` steps, before its first checkpoint.
+    pub fn new(model: &str, version: &str, scene: &str, inputs: Vec<Input>, total_steps: u64) -> Header {
+        Header {
+            model: model.to_string(),
+            version: version.to_string(),
+            scene: scene.to_string(),
+            inputs,
+            every_s: 0.0,
+            step: 0,
+            time_s: 0.0,
+            total_steps,
+        }
+    }
+}
+
 /// One file a scene reads, as a checkpoint records it.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Input {
@@ -347,20 +364,12 @@ mod tests {
     use super::*;
 
     fn header(scene: &str) -> Header {
-        Header {
-            model: "fem".into(),
-            version: "1.0".into(),
-            scene: scene.into(),
-            inputs: vec![Input {
-                path: "m.msh".into(),
-                bytes: 3,
-                hash: 7,
-            }],
-            every_s: 0.0,
-            step: 0,
-            time_s: 0.0,
-            total_steps: 100,
-        }
+        let m = Input {
+            path: "m.msh".into(),
+            bytes: 3,
+            hash: 7,
+        };
+        Header::new("fem", "1.0", scene, vec![m], 100)
     }
 
     fn scratch(name: &str) -> PathBuf {

@@ -181,16 +181,8 @@ where
         .map(|p| crate::checkpoint::Input::of(p))
         .collect::<std::io::Result<Vec<_>>>()
         .map_err(SetUpError::Input)?;
-    let header = crate::checkpoint::Header {
-        model: model.to_string(),
-        version: env!("CARGO_PKG_VERSION").to_string(),
-        scene: text,
-        inputs,
-        every_s: 0.0,
-        step: 0,
-        time_s: 0.0,
-        total_steps: estimate.steps,
-    };
+    let header =
+        crate::checkpoint::Header::new(model, env!("CARGO_PKG_VERSION"), &text, inputs, estimate.steps);
     let (removed, resumed) = match options.resume {
         Some(_) => {
             let resumed = crate::checkpoint::read(&out_dir, &header).map_err(SetUpError::Refused)?;

@@ -183,27 +183,16 @@ impl HalfSpaces {
     /// FFT plans) or is written by a step before that step reads it (the FFT, spectra and sums
     /// buffers).
     pub(crate) fn saved(&self) -> HalfSpaceState<'_> {
-        let HalfSpaces {
-            p: _,
-            modes: _,
-            path,
-            fwd: _,
-            inv: _,
-            a: _,
-            b: _,
-            scratch: _,
-            scratch_b: _,
-            spectra: _,
-            sums: _,
-            stats: _,
-        } = self;
-        match path {
-            Path::Direct { history, weights: _ } => HalfSpaceState::Direct(history.saved()),
+        // `restore` names every field: one added there is one to think about here
+        match &self.path {
+            Path::Direct { history, .. } => HalfSpaceState::Direct(history.saved()),
             Path::Fast(fast) => HalfSpaceState::Fast(fast.saved()),
         }
     }
 
     /// Restores what [`HalfSpaces::saved`] wrote into this operator, built for the same scene.
+    /// Every field is named: a new one is a compile error here until it is saved or said to be
+    /// rebuilt.
     pub(crate) fn restore(&mut self, saved: &HalfSpaceState<'_>) -> Result<(), String> {
         let HalfSpaces {
             p: _,

@@ -130,15 +130,9 @@ impl FastConvolution {
     /// The evolving part, for a checkpoint: the recursion states (poles, weights and `r` are the
     /// fit's).
     pub(crate) fn saved(&self) -> FastState<'_> {
-        let FastConvolution {
-            r: _,
-            z: _,
-            g: _,
-            s,
-            avx2: _,
-        } = self;
+        // `restore` names every field: one added there is one to think about here
         FastState {
-            states: Cow::Borrowed(s),
+            states: Cow::Borrowed(&self.s),
         }
     }
 

@@ -67,16 +67,7 @@ fn scene_text(convolution: &str, split: bool) -> String {
 
 /// What a checkpoint of `text` says before its first write (as `spectral` writes it).
 fn header(text: &str, scene: &Scene) -> Header {
-    Header {
-        model: "spectral".into(),
-        version: "test".into(),
-        scene: text.into(),
-        inputs: Vec::new(),
-        every_s: 0.0,
-        step: 0,
-        time_s: 0.0,
-        total_steps: scene.last_step() + 1,
-    }
+    Header::new("spectral", "test", text, Vec::new(), scene.last_step() + 1)
 }
 
 /// The files `write_csv` writes for `out`, by name.
