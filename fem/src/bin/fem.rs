@@ -87,15 +87,16 @@ fn run() -> anyhow::Result<()> {
     );
     bar.finish();
     let ended = fem::ended(result)?;
+    let why = why(&ended);
+    report(&scene, &ended.into_output(), &out_dir, started, fields.as_ref())?;
     if let Some(w) = &checkpoints {
         println!("{}", w.summary());
-        if matches!(ended, RunEnded::Finished(_)) {
+        // only once the files are written: a run whose files could not be written still resumes
+        if why.is_none() {
             w.remove()
                 .context("removing the checkpoint of the finished run")?;
         }
     }
-    let why = why(&ended);
-    report(&scene, &ended.into_output(), &out_dir, started, fields.as_ref())?;
     match why {
         Some(why) => Err(StoppedEarly { why, out_dir }.into()),
         None => Ok(()),
