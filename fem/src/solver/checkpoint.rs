@@ -29,20 +29,23 @@ pub(crate) struct Saved {
     snapshots_taken: Vec<(f64, Vec<String>)>,
 }
 
-/// The body of a checkpoint after the step `state.step`.
-pub(crate) fn saving<'a>(
-    state: &'a State,
+/// Writes the checkpoint of the state after step `state.step` with `writer` (the error names
+/// the file).
+pub(crate) fn write(
+    writer: &mut preflight::checkpoint::Writer,
+    state: &State,
     ws: &Workspace,
-    out: &'a RunOutput,
+    out: &RunOutput,
     snapshots: &Snapshots,
-) -> Saving<'a> {
-    Saving {
+) -> std::io::Result<()> {
+    let body = Saving {
         state,
         predicted: ws.predicted,
         out,
         snapshot_last: snapshots.last_taken(),
         snapshots_taken: snapshots.taken(),
-    }
+    };
+    writer.write(state.step, state.t, &body)
 }
 
 /// Puts a checkpoint's body in place of a freshly built run's state, workspace flag, records and

@@ -160,13 +160,7 @@ pub fn run_checkpointed(
         if let Some(Ok(())) = failed {
             // stopped on request: the checkpoint of this step, before the records of the end
             let unsaved = match checkpoints.as_deref_mut() {
-                Some(w) if !snapshots.failed() => w
-                    .write(
-                        state.step,
-                        state.t,
-                        &checkpoint::saving(&state, &ws, &out, &snapshots),
-                    )
-                    .err(),
+                Some(w) if !snapshots.failed() => checkpoint::write(w, &state, &ws, &out, &snapshots).err(),
                 _ => None,
             };
             finish(&model, &state, &ws, &mut out, &mut snapshots);
@@ -207,11 +201,7 @@ pub fn run_checkpointed(
         if let Some(w) = checkpoints.as_deref_mut()
             && done < total
             && w.due()
-            && let Err(e) = w.write(
-                state.step,
-                state.t,
-                &checkpoint::saving(&state, &ws, &out, &snapshots),
-            )
+            && let Err(e) = checkpoint::write(w, &state, &ws, &out, &snapshots)
         {
             finish(&model, &state, &ws, &mut out, &mut snapshots);
             out.status = preflight::Status::OutputFailed;
