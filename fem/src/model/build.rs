@@ -9,7 +9,7 @@ use crate::mesh::structured::{Grid, GridSpec};
 use crate::model::bulk::{self, Stiffness};
 use crate::model::face_stress::FaceStress;
 use crate::model::loading;
-use crate::model::mapped::{GaussShape, MappedStiffness, Trapezoid};
+use crate::model::mapped::{MappedStiffness, Trapezoid};
 use crate::model::state::{
     Boundary, BoundaryDof, Bulk, BulkMesh, ContactPart, Damping, Dashpot, ElementNodes, EnergyTotals, Facets,
     GmshBulk, Interface, Model, Observed, State, Workspace,
@@ -508,7 +508,10 @@ fn stiffness(grid: &Grid, d: &[[f64; 3]; 3]) -> Result<Stiffness, BuildError> {
     let shapes: Option<Vec<Trapezoid>> = (0..grid.num_elements())
         .map(|e| Trapezoid::of(&grid.element_coords(e), width))
         .collect();
-    if let Some(shapes) = shapes {
+    // an anisotropic D (shear coupled to the normal strains) takes one K_e per element
+    let mapped = shapes
+        .and_then(|shapes| MappedStiffness::new(0.5 * width, *d, grid.nx, &shapes).map(|k| (shapes, k)));
+    if let Some((shapes, mapped)) = mapped {
         // det J = (h/2) y_η > 0 at every point iff both vertical sides have positive height
         if let Some(e) = shapes.iter().position(|s| s.v_left <= 0.0 || s.v_right <= 0.0) {
             let s = shapes[e];
@@ -517,11 +520,7 @@ fn stiffness(grid: &Grid, d: &[[f64; 3]; 3]) -> Result<Stiffness, BuildError> {
                 det_j: 0.5 * width * s.v_left.min(s.v_right),
             });
         }
-        Ok(Stiffness::Mapped(Box::new(MappedStiffness {
-            half_width: 0.5 * width,
-            d: *d,
-            shapes: shapes.iter().map(GaussShape::of).collect(),
-        })))
+        Ok(Stiffness::Mapped(Box::new(mapped)))
     } else {
         (0..grid.num_elements())
             .map(k_of)

@@ -51,13 +51,18 @@ pub(crate) fn deferred_layers(grid: &Grid, fixed_dof: &[[bool; 2]], neumann_node
 }
 
 /// The scratch of the sweep, allocated at build: per band, copies of the two layers it reads
-/// from its neighbours and two rows of forces; per layer, whether the sweep advanced it.
+/// from its neighbours, two rows of forces and, on a mapped mesh, the element forces of two
+/// element rows; per layer, whether the sweep advanced it.
 #[derive(Debug, Clone)]
 pub(crate) struct SweepBuffers {
     /// Per band: copies of the layer below it and of the layer above it [m].
     pub(crate) halo: Vec<f64>,
     /// Per band: two rows of scratch forces [N/m].
     pub(crate) ring: Vec<f64>,
+    /// Per band, on a mapped mesh: the element forces of two element rows
+    /// (`model::mapped::row_forces`) [N/m] (on a grid with a shared K_e, allocated and never
+    /// touched).
+    pub(crate) element_rows: Vec<f64>,
     /// Per layer: its interior nodes were advanced by the sweep of this step.
     pub(crate) done: Vec<bool>,
 }
@@ -71,6 +76,7 @@ impl SweepBuffers {
         SweepBuffers {
             halo: vec![0.0; bands * 2 * row],
             ring: vec![0.0; bands * 2 * row],
+            element_rows: vec![0.0; bands * 2 * crate::model::mapped::row_len(grid.nx)],
             done: vec![false; layers],
         }
     }
@@ -80,6 +86,7 @@ impl SweepBuffers {
         SweepBuffers {
             halo: Vec::new(),
             ring: Vec::new(),
+            element_rows: Vec::new(),
             done: vec![false; chunks],
         }
     }

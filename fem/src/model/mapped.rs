@@ -1,9 +1,16 @@
 //! Internal forces of a mapped structured mesh (paper Section 4): every element has vertical sides
 //! and the same width h, only the y coordinates of its corners differ. Then x = x_a + (h/2)(1 + ξ),
 //! the Jacobian is lower-triangular and B follows from four numbers per element, so f_int is
-//! computed on the fly (about 200 flops per element) instead of streaming a 512-byte K_e per
+//! computed on the fly (about 170 flops per element) instead of streaming a 512-byte K_e per
 //! element per step, which made the per-element path memory-bound (docs/fem-model.md §1, same 2×2 Gauss
 //! rule and the same discrete operator as K_e u_e, checked to round-off by a test).
+//!
+//! The elements of a row are computed [`LANES`] at a time, one lane each, with AVX2 where the CPU
+//! has it: every lane takes the same IEEE operations in the same order (no fused multiply-add),
+//! so the bits do not depend on the lane, the vector width or the CPU. The one-pass sweep of
+//! unsampled steps (`solver::sweep`) computes each element row once ([`row_forces`]) and sums it
+//! into its two layers ([`layer_from_rows`]) in the order of the separate force pass
+//! ([`internal_forces`]), so both give the same bits (docs/performance.md, "Mapped meshes").
 
 use crate::mesh::structured::Grid;
 use nalgebra::Vector2;
@@ -35,15 +42,29 @@ impl Trapezoid {
     }
 }
 
-/// Mapped-mesh stiffness: element width h [m], the elasticity matrix D [Pa] and one shape per element.
+/// Elements computed together: one AVX2 register of f64 per quantity.
+pub(crate) const LANES: usize = 4;
+
+/// One number per element of a block of [`LANES`] consecutive elements of a row.
+type Lanes = [f64; LANES];
+
+/// Mapped-mesh stiffness: element width h [m], the elasticity matrix D [Pa] and the shape of
+/// every element, by blocks of [`LANES`] elements of a row.
 #[derive(Debug, Clone)]
 pub(crate) struct MappedStiffness {
     /// x_ξ = h/2 [m].
     pub half_width: f64,
-    /// Plane-strain D [Pa].
-    pub d: [[f64; 3]; 3],
-    /// Gauss constants of each element, element order.
-    pub shapes: Vec<GaussShape>,
+    /// 1/x_ξ [1/m].
+    inv_half_width: f64,
+    /// Plane-strain D [Pa], its entries that are not zero.
+    elasticity: Elasticity,
+    /// Elements per row.
+    nx: usize,
+    /// Gauss constants, row by row, each row in blocks of [`LANES`] elements (the last block
+    /// padded with copies of the row's last element).
+    blocks: Vec<ShapeBlock>,
+    /// Whether the CPU runs AVX2 (checked once, at build).
+    avx2: bool,
 }
 
 /// Per-element constants of the 2×2 Gauss rule: y_η at ξ = ∓g, 1/y_η there, and y_ξ at η = ∓g
@@ -53,6 +74,14 @@ pub(crate) struct GaussShape {
     y_eta: [f64; 2],
     inv_y_eta: [f64; 2],
     y_xi: [f64; 2],
+}
+
+/// The [`GaussShape`]s of [`LANES`] elements, one lane each [m, 1/m].
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct ShapeBlock {
+    y_eta: [Lanes; 2],
+    inv_y_eta: [Lanes; 2],
+    y_xi: [Lanes; 2],
 }
 
 impl GaussShape {
@@ -68,53 +97,339 @@ impl GaussShape {
     }
 }
 
-/// f_e = K_e u_e of one vertical-sided element [N/m], 2×2 Gauss. With the edge differences
-/// U_ξ(η) = ¼[(1−η)(u₁−u₀) + (1+η)(u₂−u₃)] and U_η(ξ) = ¼[(1−ξ)(u₃−u₀) + (1+ξ)(u₂−u₁)]:
-/// ∂u/∂y = U_η / y_η, ∂u/∂x = (U_ξ − y_ξ ∂u/∂y)/x_ξ, σ = D ε, and Bᵀσ det J (det J = x_ξ y_η)
-/// is N_a,ξ P + N_a,η Q with P = y_η (σ_xx, σ_xy), Q = x_ξ (σ_xy, σ_yy) − y_ξ (σ_xx, σ_xy);
-/// the sums over Gauss points are gathered per edge before the scatter (about 150 flops).
+impl MappedStiffness {
+    /// The stiffness of a mapped grid of `nx` elements per row, `shapes` in element order (row
+    /// by row), width 2 `half_width` [m], elasticity `d` [Pa]; `None` if D couples shear and
+    /// normal strains (an anisotropic material), which this kernel does not compute.
+    pub(crate) fn new(
+        half_width: f64,
+        d: [[f64; 3]; 3],
+        nx: usize,
+        shapes: &[Trapezoid],
+    ) -> Option<MappedStiffness> {
+        let elasticity = Elasticity::of(&d)?;
+        let per_row = nx.div_ceil(LANES);
+        let mut blocks = vec![ShapeBlock::default(); per_row * shapes.len() / nx.max(1)];
+        for (row, (row_shapes, row_blocks)) in shapes.chunks(nx).zip(blocks.chunks_mut(per_row)).enumerate() {
+            debug_assert_eq!(row_shapes.len(), nx, "row {row}");
+            for (b, block) in row_blocks.iter_mut().enumerate() {
+                for q in 0..LANES {
+                    let s = GaussShape::of(&row_shapes[(b * LANES + q).min(nx - 1)]);
+                    for k in 0..2 {
+                        block.y_eta[k][q] = s.y_eta[k];
+                        block.inv_y_eta[k][q] = s.inv_y_eta[k];
+                        block.y_xi[k][q] = s.y_xi[k];
+                    }
+                }
+            }
+        }
+        #[cfg(target_arch = "x86_64")]
+        let avx2 = std::arch::is_x86_feature_detected!("avx2");
+        #[cfg(not(target_arch = "x86_64"))]
+        let avx2 = false;
+        Some(MappedStiffness {
+            half_width,
+            inv_half_width: 1.0 / half_width,
+            elasticity,
+            nx,
+            blocks,
+            avx2,
+        })
+    }
+}
+
+/// [`LANES`] numbers operated on together, lane by lane; every operation is one IEEE operation
+/// per lane, so the compiler may pack them in one register without changing a bit.
+#[derive(Clone, Copy)]
+struct F4(Lanes);
+
+macro_rules! lane_op {
+    ($tr:ident, $f:ident, $op:tt) => {
+        impl std::ops::$tr for F4 {
+            type Output = F4;
+            #[inline(always)]
+            fn $f(self, o: F4) -> F4 {
+                let mut r = self.0;
+                for q in 0..LANES {
+                    r[q] = self.0[q] $op o.0[q];
+                }
+                F4(r)
+            }
+        }
+        impl std::ops::$tr<F4> for f64 {
+            type Output = F4;
+            #[inline(always)]
+            fn $f(self, o: F4) -> F4 {
+                F4([self; LANES]) $op o
+            }
+        }
+    };
+}
+lane_op!(Add, add, +);
+lane_op!(Sub, sub, -);
+lane_op!(Mul, mul, *);
+
+impl std::ops::Neg for F4 {
+    type Output = F4;
+    #[inline(always)]
+    fn neg(self) -> F4 {
+        F4(self.0.map(|v| -v))
+    }
+}
+
+/// The entries of an isotropic plane-strain D that are not zero: D₀₀, D₀₁, D₁₀, D₁₁, D₂₂ [Pa].
+#[derive(Debug, Clone, Copy)]
+struct Elasticity {
+    d00: f64,
+    d01: f64,
+    d10: f64,
+    d11: f64,
+    d22: f64,
+}
+
+impl Elasticity {
+    /// The non-zero entries of `d`, if σ_xy and the normal stresses are uncoupled (D₀₂ = D₁₂ =
+    /// D₂₀ = D₂₁ = 0, as for every isotropic material).
+    fn of(d: &[[f64; 3]; 3]) -> Option<Elasticity> {
+        (d[0][2] == 0.0 && d[1][2] == 0.0 && d[2][0] == 0.0 && d[2][1] == 0.0).then_some(Elasticity {
+            d00: d[0][0],
+            d01: d[0][1],
+            d10: d[1][0],
+            d11: d[1][1],
+            d22: d[2][2],
+        })
+    }
+}
+
+/// f_e = K_e u_e of [`LANES`] vertical-sided elements [N/m], 2×2 Gauss, as `[corner][component]`
+/// per lane, from their corner displacements `ue[corner][component]` [m]. With the edge
+/// differences U_ξ(η) = ¼[(1−η)(u₁−u₀) + (1+η)(u₂−u₃)] and U_η(ξ) = ¼[(1−ξ)(u₃−u₀) + (1+ξ)(u₂−u₁)]:
+/// ∂u/∂y = U_η / y_η (a function of ξ alone), ∂u/∂x = (U_ξ − y_ξ ∂u/∂y)/x_ξ, σ = D ε, and Bᵀσ
+/// det J (det J = x_ξ y_η) is N_a,ξ P + N_a,η Q with P = y_η (σ_xx, σ_xy), Q = x_ξ (σ_xy, σ_yy) −
+/// y_ξ (σ_xx, σ_xy); the sums over Gauss points are gathered per edge before the scatter (about
+/// 170 flops per element).
 #[inline(always)]
-pub(crate) fn element_forces(
-    s: &GaussShape,
-    x_xi: f64,
-    d: &[[f64; 3]; 3],
-    ue: &[Vector2<f64>; 4],
-) -> [Vector2<f64>; 4] {
+fn block_forces(s: &ShapeBlock, x_xi: f64, inv_x_xi: f64, d: &Elasticity, ue: &[V; 4]) -> [V; 4] {
     let g = 1.0 / 3f64.sqrt();
-    let w = [0.25 * (1.0 + g), 0.25 * (1.0 - g)]; // ¼(1 ∓ (∓g)): weight of the near / far edge
+    let (w0, w1) = (0.25 * (1.0 + g), 0.25 * (1.0 - g)); // ¼(1 ∓ (∓g)): weight of the near / far edge
     let (db, dt) = (ue[1] - ue[0], ue[2] - ue[3]);
     let (dl, dr) = (ue[3] - ue[0], ue[2] - ue[1]);
     // index 0: η (or ξ) = −g, index 1: +g
-    let u_xi = [w[0] * db + w[1] * dt, w[1] * db + w[0] * dt];
-    let u_eta = [w[0] * dl + w[1] * dr, w[1] * dl + w[0] * dr];
-    let inv_x_xi = 1.0 / x_xi;
-    let (mut p_sum, mut q_sum) = ([Vector2::zeros(); 2], [Vector2::zeros(); 2]);
-    for (je, y_xi) in s.y_xi.iter().enumerate() {
+    let u_xi = [w0 * db + w1 * dt, w1 * db + w0 * dt];
+    let u_eta = [w0 * dl + w1 * dr, w1 * dl + w0 * dr];
+    let du_dy = [u_eta[0] * F4(s.inv_y_eta[0]), u_eta[1] * F4(s.inv_y_eta[1])];
+    let zero = F4([0.0; LANES]);
+    let mut p_sum = [V { x: zero, y: zero }; 2];
+    let mut q_sum = [V { x: zero, y: zero }; 2];
+    for je in 0..2 {
+        let y_xi = F4(s.y_xi[je]);
         for ix in 0..2 {
-            let du_dy = u_eta[ix] * s.inv_y_eta[ix];
-            let du_dx = (u_xi[je] - *y_xi * du_dy) * inv_x_xi;
-            let eps = [du_dx.x, du_dy.y, du_dy.x + du_dx.y];
-            let sxx = d[0][0] * eps[0] + d[0][1] * eps[1] + d[0][2] * eps[2];
-            let syy = d[1][0] * eps[0] + d[1][1] * eps[1] + d[1][2] * eps[2];
-            let sxy = d[2][0] * eps[0] + d[2][1] * eps[1] + d[2][2] * eps[2];
-            p_sum[je] += s.y_eta[ix] * Vector2::new(sxx, sxy);
-            q_sum[ix] += x_xi * Vector2::new(sxy, syy) - *y_xi * Vector2::new(sxx, sxy);
+            let dy = du_dy[ix];
+            let dx = (u_xi[je] - dy * y_xi) * F4([inv_x_xi; LANES]);
+            let (e0, e1, e2) = (dx.x, dy.y, dy.x + dx.y);
+            let sxx = d.d00 * e0 + d.d01 * e1;
+            let syy = d.d10 * e0 + d.d11 * e1;
+            let sxy = d.d22 * e2;
+            let y_eta = F4(s.y_eta[ix]);
+            p_sum[je] = p_sum[je] + V { x: sxx, y: sxy } * y_eta;
+            q_sum[ix] = q_sum[ix]
+                + V {
+                    x: x_xi * sxy - y_xi * sxx,
+                    y: x_xi * syy - y_xi * sxy,
+                };
         }
     }
     // N_a,ξ = ¼ ξ_a (1 + η η_a), N_a,η = ¼ η_a (1 + ξ ξ_a)
-    let pb = w[0] * p_sum[0] + w[1] * p_sum[1];
-    let pt = w[1] * p_sum[0] + w[0] * p_sum[1];
-    let ql = w[0] * q_sum[0] + w[1] * q_sum[1];
-    let qr = w[1] * q_sum[0] + w[0] * q_sum[1];
+    let pb = w0 * p_sum[0] + w1 * p_sum[1];
+    let pt = w1 * p_sum[0] + w0 * p_sum[1];
+    let ql = w0 * q_sum[0] + w1 * q_sum[1];
+    let qr = w1 * q_sum[0] + w0 * q_sum[1];
     [-pb - ql, pb - qr, pt + qr, -pt + ql]
+}
+
+/// A vector quantity of [`LANES`] elements: x and y components.
+#[derive(Clone, Copy)]
+struct V {
+    x: F4,
+    y: F4,
+}
+
+impl std::ops::Add for V {
+    type Output = V;
+    #[inline(always)]
+    fn add(self, o: V) -> V {
+        V {
+            x: self.x + o.x,
+            y: self.y + o.y,
+        }
+    }
+}
+
+impl std::ops::Sub for V {
+    type Output = V;
+    #[inline(always)]
+    fn sub(self, o: V) -> V {
+        V {
+            x: self.x - o.x,
+            y: self.y - o.y,
+        }
+    }
+}
+
+impl std::ops::Neg for V {
+    type Output = V;
+    #[inline(always)]
+    fn neg(self) -> V {
+        V {
+            x: -self.x,
+            y: -self.y,
+        }
+    }
+}
+
+impl std::ops::Mul<F4> for V {
+    type Output = V;
+    #[inline(always)]
+    fn mul(self, a: F4) -> V {
+        V {
+            x: self.x * a,
+            y: self.y * a,
+        }
+    }
+}
+
+impl std::ops::Mul<V> for f64 {
+    type Output = V;
+    #[inline(always)]
+    fn mul(self, v: V) -> V {
+        V {
+            x: self * v.x,
+            y: self * v.y,
+        }
+    }
+}
+
+/// Numbers per block of a row of element forces: 4 corners × 2 components × [`LANES`].
+pub(crate) const BLOCK: usize = 8 * LANES;
+
+/// Length of a buffer of one element row's forces ([`row_forces`]) for `nx` elements per row.
+pub(crate) fn row_len(nx: usize) -> usize {
+    nx.div_ceil(LANES) * BLOCK
+}
+
+/// Element forces of one element row into `out` ([`row_len`] numbers: per block of [`LANES`]
+/// elements, corner a, component c, lane q at `a·2L + c·L + q`) [N/m], from the displacement
+/// rows of its lower and upper layers (x, y pairs) [m].
+pub(crate) fn row_forces(k: &MappedStiffness, row: usize, lower: &[f64], upper: &[f64], out: &mut [f64]) {
+    #[cfg(target_arch = "x86_64")]
+    if k.avx2 {
+        // SAFETY: `avx2` is true only if the CPU reported AVX2 at run time (`MappedStiffness::new`).
+        return unsafe { row_forces_avx2(k, row, lower, upper, out) };
+    }
+    row_forces_portable(k, row, lower, upper, out)
+}
+
+/// Block `b` of [`row_forces`] alone, into `out` ([`BLOCK`] numbers).
+fn row_block(k: &MappedStiffness, row: usize, b: usize, lower: &[f64], upper: &[f64], out: &mut [f64]) {
+    #[cfg(target_arch = "x86_64")]
+    if k.avx2 {
+        // SAFETY: as in `row_forces`.
+        return unsafe { block_avx2(k, row, b, lower, upper, out) };
+    }
+    block(k, row, b, lower, upper, out)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn row_forces_avx2(k: &MappedStiffness, row: usize, lower: &[f64], upper: &[f64], out: &mut [f64]) {
+    row_forces_portable(k, row, lower, upper, out)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn block_avx2(k: &MappedStiffness, row: usize, b: usize, lower: &[f64], upper: &[f64], out: &mut [f64]) {
+    block(k, row, b, lower, upper, out)
+}
+
+#[inline(always)]
+fn row_forces_portable(k: &MappedStiffness, row: usize, lower: &[f64], upper: &[f64], out: &mut [f64]) {
+    for (b, o) in out.chunks_exact_mut(BLOCK).enumerate() {
+        block(k, row, b, lower, upper, o);
+    }
+}
+
+#[inline(always)]
+fn block(k: &MappedStiffness, row: usize, b: usize, lower: &[f64], upper: &[f64], o: &mut [f64]) {
+    let nx = k.nx;
+    let shape = &k.blocks[row * nx.div_ceil(LANES) + b];
+    // the LANES + 1 nodes of the block in each row, x, y pairs; past the row's last node (in
+    // its last block) the last node again: those lanes' forces are never read
+    const SPAN: usize = 2 * (LANES + 1);
+    let span = |r: &[f64]| -> [f64; SPAN] {
+        let first = 2 * b * LANES;
+        match r.get(first..first + SPAN) {
+            Some(s) => s.try_into().expect("invariant: SPAN numbers"),
+            None => std::array::from_fn(|i| r[2 * (b * LANES + i / 2).min(nx) + i % 2]),
+        }
+    };
+    let (l, h) = (span(lower), span(upper));
+    let node = |r: &[f64; SPAN], shift: usize| V {
+        x: F4(std::array::from_fn(|q| r[2 * (q + shift)])),
+        y: F4(std::array::from_fn(|q| r[2 * (q + shift) + 1])),
+    };
+    let ue = [node(&l, 0), node(&l, 1), node(&h, 1), node(&h, 0)];
+    let fe = block_forces(shape, k.half_width, k.inv_half_width, &k.elasticity, &ue);
+    for (a, corner) in fe.iter().enumerate() {
+        o[2 * a * LANES..(2 * a + 1) * LANES].copy_from_slice(&corner.x.0);
+        o[(2 * a + 1) * LANES..(2 * a + 2) * LANES].copy_from_slice(&corner.y.0);
+    }
+}
+
+/// Force of corner `a`, component `c`, of element `e` in a [`row_forces`] buffer [N/m].
+#[inline(always)]
+fn at(r: &[f64], e: usize, a: usize, c: usize) -> f64 {
+    r[(e / LANES) * BLOCK + (2 * a + c) * LANES + e % LANES]
+}
+
+/// −f_int of the nodes of one layer into `out` (x, y pairs) [N/m] from the element forces of the
+/// row below it (`below`, its corners 2 and 3 act on this layer) and of the row above (`above`,
+/// corners 0 and 1), [`row_forces`] layout. The terms are subtracted in the order
+/// [`internal_forces`] subtracts them: the row whose lower layer is even first, and within a row
+/// element i − 1 before element i, so the sum is the same to the bit.
+pub(crate) fn layer_from_rows(layer: usize, below: Option<&[f64]>, above: Option<&[f64]>, out: &mut [f64]) {
+    let w = out.len() / 2;
+    out.fill(0.0);
+    // (row, corner taken from element i − 1, corner taken from element i)
+    let below = below.map(|r| (r, 2usize, 3usize));
+    let above = above.map(|r| (r, 1usize, 0usize));
+    // the row above has this layer as its lower layer; the row below, the layer under it
+    let order = if layer.is_multiple_of(2) {
+        [above, below]
+    } else {
+        [below, above]
+    };
+    for (r, left, right) in order.into_iter().flatten() {
+        for (i, o) in out.chunks_exact_mut(2).enumerate() {
+            if i >= 1 {
+                o[0] -= at(r, i - 1, left, 0);
+                o[1] -= at(r, i - 1, left, 1);
+            }
+            if i + 1 < w {
+                o[0] -= at(r, i, right, 0);
+                o[1] -= at(r, i, right, 1);
+            }
+        }
+    }
 }
 
 /// f = −f_int(u) (overwrites `f`). Element rows are processed in two passes, those whose lower
 /// node layer is even, then odd: within a pass the rows write disjoint layer pairs, so the
-/// parallel scatter has no race and needs no atomics.
+/// parallel scatter has no race and needs no atomics. Each row's element forces go through
+/// [`row_forces`] a block at a time and are scattered in element order.
 pub(crate) fn internal_forces(grid: &Grid, k: &MappedStiffness, u: &[Vector2<f64>], f: &mut [Vector2<f64>]) {
     let nx = grid.nx;
     let w = nx + 1;
+    let flat: &[f64] = bytemuck::cast_slice(u);
     f.par_iter_mut().for_each(|v| *v = Vector2::zeros());
     for parity in [0usize, 1] {
         let (_, tail) = f.split_at_mut(parity * w);
@@ -129,17 +444,21 @@ pub(crate) fn internal_forces(grid: &Grid, k: &MappedStiffness, u: &[Vector2<f64
             let (lo, hi) = pair.split_at_mut(w);
             let layer = grid.upper_layer[r];
             let (ul, uh) = (
-                &u[layer * w..(layer + 1) * w],
-                &u[(layer + 1) * w..(layer + 2) * w],
+                &flat[2 * layer * w..2 * (layer + 1) * w],
+                &flat[2 * (layer + 1) * w..2 * (layer + 2) * w],
             );
-            let shapes = &k.shapes[r * nx..(r + 1) * nx];
-            for (c, shape) in shapes.iter().enumerate() {
-                let ue = [ul[c], ul[c + 1], uh[c + 1], uh[c]];
-                let fe = element_forces(shape, k.half_width, &k.d, &ue);
-                lo[c] -= fe[0];
-                lo[c + 1] -= fe[1];
-                hi[c + 1] -= fe[2];
-                hi[c] -= fe[3];
+            let mut block = [0.0; BLOCK];
+            for b in 0..nx.div_ceil(LANES) {
+                // one block at a time: a row's forces would need a buffer per task
+                row_block(k, r, b, ul, uh, &mut block);
+                for c in b * LANES..((b + 1) * LANES).min(nx) {
+                    let fe =
+                        |a: usize| Vector2::new(at(&block, c % LANES, a, 0), at(&block, c % LANES, a, 1));
+                    lo[c] -= fe(0);
+                    lo[c + 1] -= fe(1);
+                    hi[c + 1] -= fe(2);
+                    hi[c] -= fe(3);
+                }
             }
         });
     }
@@ -149,6 +468,27 @@ pub(crate) fn internal_forces(grid: &Grid, k: &MappedStiffness, u: &[Vector2<f64
 mod tests {
     use super::*;
     use crate::model::bulk;
+
+    /// f_e of one element through [`row_forces`] (a row of one element).
+    fn forces_of(
+        corners: &[Vector2<f64>; 4],
+        h: f64,
+        d: &[[f64; 3]; 3],
+        ue: &[Vector2<f64>; 4],
+    ) -> [Vector2<f64>; 4] {
+        let k = MappedStiffness::new(
+            0.5 * h,
+            *d,
+            1,
+            &[Trapezoid::of(corners, h).expect("vertical sides")],
+        )
+        .unwrap();
+        let lower = [ue[0].x, ue[0].y, ue[1].x, ue[1].y];
+        let upper = [ue[3].x, ue[3].y, ue[2].x, ue[2].y];
+        let mut out = vec![0.0; row_len(1)];
+        row_forces(&k, 0, &lower, &upper, &mut out);
+        [0, 1, 2, 3].map(|a| Vector2::new(at(&out, 0, a, 0), at(&out, 0, a, 1)))
+    }
 
     #[test]
     fn matches_k_e_times_u_on_distorted_elements() {
@@ -164,8 +504,7 @@ mod tests {
         for corners in shapes {
             let c = corners.map(|(x, y)| Vector2::new(x + 0.3, y - 0.2));
             let ke = bulk::stiffness(&c, &d).unwrap();
-            let shape = Trapezoid::of(&c, h).expect("vertical sides");
-            let f = element_forces(&GaussShape::of(&shape), 0.5 * h, &d, &ue);
+            let f = forces_of(&c, h, &d, &ue);
             let scale: f64 = (0..8).map(|i| ke[i][i]).fold(0.0, f64::max) * 1e-4;
             for a in 0..4 {
                 for comp in 0..2 {
@@ -184,5 +523,44 @@ mod tests {
             )
             .is_none()
         );
+    }
+
+    /// A row of 11 elements (two full blocks and a padded one), each of its own shape: the AVX2
+    /// path gives the bits of the portable one, every element the bits it has alone in a row,
+    /// whatever its lane, and the padding changes nothing.
+    #[test]
+    fn every_lane_gives_the_bits_of_its_element_alone() {
+        let d = crate::law::elastic::PlaneStrain::new(7e6, 0.35, 1230.0).d_matrix();
+        let (h, nx) = (1e-3, 11);
+        let y = |i: usize, j: usize| j as f64 * h * (1.0 + 0.3 * (i as f64 * 0.9).sin());
+        let corners = |e: usize| {
+            let x = |i: usize| i as f64 * h;
+            [(e, 0), (e + 1, 0), (e + 1, 1), (e, 1)]
+                .map(|(i, j)| Vector2::new(x(i), y(i, j) + 0.1 * h * (i as f64).cos()))
+        };
+        let shapes: Vec<Trapezoid> = (0..nx).map(|e| Trapezoid::of(&corners(e), h).unwrap()).collect();
+        let k = MappedStiffness::new(0.5 * h, d, nx, &shapes).unwrap();
+        let u = |i: usize, j: usize| {
+            Vector2::new(
+                (i as f64 * 0.37 + j as f64).sin(),
+                (i as f64 * 0.11 - j as f64).cos(),
+            ) * 1e-5
+        };
+        let row = |j: usize| -> Vec<f64> { (0..=nx).flat_map(|i| [u(i, j).x, u(i, j).y]).collect() };
+        let (lower, upper) = (row(0), row(1));
+        let mut portable = vec![f64::NAN; row_len(nx)];
+        row_forces_portable(&k, 0, &lower, &upper, &mut portable);
+        let mut dispatched = vec![f64::NAN; row_len(nx)];
+        row_forces(&k, 0, &lower, &upper, &mut dispatched);
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&portable), bits(&dispatched), "AVX2 against portable");
+        for e in 0..nx {
+            let ue = [u(e, 0), u(e + 1, 0), u(e + 1, 1), u(e, 1)];
+            let alone = forces_of(&corners(e), h, &d, &ue);
+            for (a, alone) in alone.iter().enumerate() {
+                assert_eq!(at(&portable, e, a, 0).to_bits(), alone.x.to_bits(), "element {e}");
+                assert_eq!(at(&portable, e, a, 1).to_bits(), alone.y.to_bits(), "element {e}");
+            }
+        }
     }
 }

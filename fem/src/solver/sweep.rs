@@ -15,7 +15,9 @@
 use crate::mesh::structured::Grid;
 use crate::model::bulk::Stiffness;
 use crate::model::layers::{BAND, SweepBuffers};
+use crate::model::mapped::{self, MappedStiffness};
 use crate::model::state::{BulkMesh, Model};
+use crate::model::stencil::Stencil;
 use crate::solver::node::advance;
 use nalgebra::Vector2;
 use rayon::prelude::*;
@@ -32,12 +34,13 @@ pub(crate) fn forces_and_advance(
     buffers: &mut SweepBuffers,
     dt: f64,
 ) -> Option<f64> {
-    let BulkMesh::Grid {
-        grid,
-        stiffness: Stiffness::Shared(shared),
-    } = &model.bulk.mesh
-    else {
+    let BulkMesh::Grid { grid, stiffness } = &model.bulk.mesh else {
         return None;
+    };
+    let kernel = match stiffness {
+        Stiffness::Shared(shared) => Kernel::Stencil(&shared.stencil),
+        Stiffness::Mapped(mapped) => Kernel::Mapped(mapped),
+        Stiffness::PerElement(_) => return None,
     };
     let nx = grid.nx;
     if nx < 2 {
@@ -58,10 +61,9 @@ pub(crate) fn forces_and_advance(
             }
         }
     }
-    let stencil = &shared.stencil;
     let ctx = Band {
         grid,
-        stencil,
+        kernel,
         deferred: &model.bulk.deferred,
         mass: &model.bulk.mass,
         dt,
@@ -77,18 +79,38 @@ pub(crate) fn forces_and_advance(
             buffers
                 .halo
                 .par_chunks(2 * row)
-                .zip(buffers.ring.par_chunks_mut(2 * row)),
+                .zip(buffers.ring.par_chunks_mut(2 * row))
+                .zip(buffers.element_rows.par_chunks_mut(2 * mapped::row_len(nx))),
         )
         .enumerate()
-        .map(|(b, ((((u, v), f), done), (halo, ring)))| ctx.run(b * BAND, u, v, f, done, halo, ring))
+        .map(|(b, ((((u, v), f), done), ((halo, ring), rows)))| {
+            ctx.run(b * BAND, u, v, f, done, halo, Scratch { ring, rows })
+        })
         .reduce(|| 0.0, f64::max);
     Some(vmax2)
+}
+
+/// How a layer's forces are computed.
+#[derive(Clone, Copy)]
+enum Kernel<'a> {
+    /// One shared K_e: the 9-point stencil of every interior node.
+    Stencil(&'a Stencil),
+    /// Vertical-sided elements: each element row's forces on the fly (`model::mapped`), computed
+    /// once and shared by its two layers.
+    Mapped(&'a MappedStiffness),
+}
+
+/// A band's scratch: two rows of forces (x, y pairs) [N/m], and on a mapped mesh the element
+/// forces of two element rows, 8 numbers per element [N/m].
+struct Scratch<'a> {
+    ring: &'a mut [f64],
+    rows: &'a mut [f64],
 }
 
 /// What every band task reads.
 struct Band<'a> {
     grid: &'a Grid,
-    stencil: &'a crate::model::stencil::Stencil,
+    kernel: Kernel<'a>,
     deferred: &'a [bool],
     mass: &'a [f64],
     dt: f64,
@@ -108,8 +130,9 @@ impl Band<'_> {
         f: &mut [Vector2<f64>],
         done: &mut [bool],
         halo: &[f64],
-        ring: &mut [f64],
+        scratch: Scratch<'_>,
     ) -> f64 {
+        let Scratch { ring, rows } = scratch;
         let (w, row) = (self.w, 2 * self.w);
         let e = a + done.len();
         let nx = w - 1;
@@ -132,12 +155,31 @@ impl Band<'_> {
                 let lo = below.map(|_| layer(j - 1));
                 let hi = above.map(|_| layer(j + 1));
                 debug_assert!(j + 1 < self.layers || hi.is_none());
+                let forces = |out: &mut [f64], rows: &mut [f64]| match self.kernel {
+                    Kernel::Stencil(stencil) => stencil.layer(lo, layer(j), hi, out),
+                    Kernel::Mapped(k) => {
+                        // the element row above layer j is computed here and kept for layer
+                        // j + 1; the one below was kept by layer j − 1 (computed again only at
+                        // the band's first layer, from the halo)
+                        let (even, odd) = rows.split_at_mut(mapped::row_len(nx));
+                        let (mine, previous) = if j % 2 == 0 { (even, odd) } else { (odd, even) };
+                        if let (Some(r), Some(lo)) = (below, lo)
+                            && j == a
+                        {
+                            mapped::row_forces(k, r, lo, layer(j), previous);
+                        }
+                        if let (Some(r), Some(hi)) = (above, hi) {
+                            mapped::row_forces(k, r, layer(j), hi, mine);
+                        }
+                        mapped::layer_from_rows(j, below.map(|_| &*previous), above.map(|_| &*mine), out);
+                    }
+                };
                 if stored(j) {
                     let out: &mut [f64] = bytemuck::cast_slice_mut(&mut f[(j - a) * w..(j - a + 1) * w]);
-                    self.stencil.layer(lo, layer(j), hi, out);
+                    forces(out, rows);
                 } else {
                     let out = &mut ring[(j % 2) * row..(j % 2 + 1) * row];
-                    self.stencil.layer(lo, layer(j), hi, out);
+                    forces(out, rows);
                     // the edge nodes are advanced after contact, from the stored forces
                     f[(j - a) * w] = Vector2::new(out[0], out[1]);
                     f[(j - a) * w + nx] = Vector2::new(out[2 * nx], out[2 * nx + 1]);
