@@ -87,7 +87,8 @@ pub(crate) fn write(
     // exhaustive: a field added to the state is a compile error here until it is saved or said
     // to be rebuilt
     let State { u, points } = st;
-    let Workspace { half, f: _ } = ws;
+    // the clock times this process's steps only
+    let Workspace { half, f: _, clock: _ } = ws;
     let RunOutput {
         time_step: _,
         grid_spacing: _,
@@ -95,6 +96,8 @@ pub(crate) fn write(
         contact,
         fields,
         stats: _,
+        profile: _,
+        work: _,
     } = out;
     let saved = Saved {
         cursor: at,
@@ -154,8 +157,8 @@ pub(crate) fn restore(
     fill(bottom_x, &u.bottom_x, "bottom x displacements").map_err(refused)?;
     fill(bottom_y, &u.bottom_y, "bottom y displacements").map_err(refused)?;
     fill(points_now, &points, "grid points").map_err(refused)?;
-    // f is written by every step before it is read
-    let Workspace { half, f: _ } = ws;
+    // f is written by every step before it is read; the clock times this process's steps only
+    let Workspace { half, f: _, clock: _ } = ws;
     half.restore(&operator).map_err(refused)?;
     let RunOutput {
         time_step: _,
@@ -164,6 +167,8 @@ pub(crate) fn restore(
         contact: contact_now,
         fields: fields_now,
         stats,
+        profile: _,
+        work: _,
     } = out;
     if tips.len() as u64 != cursor.next_step {
         return Err(refused(format!(

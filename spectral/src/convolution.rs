@@ -10,6 +10,7 @@ use rustfft::num_complex::Complex64;
 use crate::history::{Entry, History};
 use crate::kernels::KernelTable;
 use crate::modes::Modes;
+use crate::profile::Work;
 
 /// The eight convolutions of one mode (K ∗ Û) [m].
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -65,7 +66,25 @@ impl Weights {
     pub fn bytes(&self) -> usize {
         self.w.len() * std::mem::size_of::<[f64; 3]>()
     }
+
+    /// Work of one direct step once every window is full (§4.1): per mode j ≥ 1, its Û read
+    /// and pushed into the ring buffer, and its eight sums written; per (mode, lag), the entry
+    /// and its three weights read and [`FLOPS_PER_LAG`] flops.
+    pub fn work(&self) -> Work {
+        let modes = self.offset.len().saturating_sub(1) as f64;
+        let lags = self.w.len() as f64;
+        let entry = std::mem::size_of::<Entry>() as f64;
+        Work {
+            flops: lags * FLOPS_PER_LAG,
+            read: modes * entry + lags * (entry + std::mem::size_of::<[f64; 3]>() as f64),
+            written: modes * (entry + std::mem::size_of::<ModeSums>() as f64),
+        }
+    }
 }
+
+/// Flops of one (mode, lag) of [`accumulate`]: eight sums of a complex entry times a real
+/// weight (2 multiplies and 2 adds each).
+const FLOPS_PER_LAG: f64 = 32.0;
 
 #[inline(always)]
 fn accumulate(s: &mut ModeSums, w: &[[f64; 3]], h: &[Entry]) {

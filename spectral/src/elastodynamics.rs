@@ -18,6 +18,7 @@ use crate::fast::{FastConvolution, FastState, SoeFit};
 use crate::history::{Entry, History, HistoryState};
 use crate::kernels::Kernels;
 use crate::modes::Modes;
+use crate::profile::{Clock, Phase, StepWork, Work};
 use crate::scene::Convolution;
 
 /// Parameters of the half-space pair (identical materials); for two materials, one set per
@@ -217,7 +218,14 @@ impl HalfSpaces {
 
     /// Records u^n in the history and writes f^n (§4.2 steps 2–4). Call once per step, in order.
     pub fn step(&mut self, u: &FaceFields, f: &mut FaceFields) {
+        self.step_timed(u, f, &mut Clock::default());
+    }
+
+    /// As [`step`](HalfSpaces::step), booking a lap to `clock` after each phase: forward FFT,
+    /// convolution, inverse FFT (with the assembly of F^±).
+    pub fn step_timed(&mut self, u: &FaceFields, f: &mut FaceFields, clock: &mut Clock) {
         self.forward(u);
+        clock.lap(Phase::ForwardFft);
         match &mut self.path {
             Path::Direct { history, weights } => {
                 history.push(&self.spectra);
@@ -225,8 +233,68 @@ impl HalfSpaces {
             }
             Path::Fast(fast) => fast.step(&self.spectra, &mut self.sums),
         }
+        clock.lap(Phase::Convolution);
         self.assemble();
         self.inverse(f);
+        clock.lap(Phase::InverseFft);
+    }
+
+    /// Work of one step by phase (the direct path's windows full), counted from the loops of
+    /// [`step`](HalfSpaces::step) with N points and N/2 + 1 modes; each complex FFT of size N
+    /// ≈ 5 N log2 N flops, its array read and written once:
+    /// - forward: the four real fields read and packed into two complex arrays (32 N B each way);
+    ///   two FFTs; both arrays read and split into the spectra of the four fields (24 flops a
+    ///   mode, 64 B written);
+    /// - convolution: the recursion's count (`fast.rs`: 120 flops per pole and mode, the states
+    ///   read and written) or the direct sum's (`convolution.rs`: 32 flops per mode and lag);
+    /// - inverse: the sums, spectra and k read per mode and F^± assembled (49 flops a mode;
+    ///   both halves of the two arrays written, 64 B); two FFTs; both arrays read, scaled by
+    ///   1/N and unpacked into f (4 N flops, 32 N B each way).
+    pub fn work(&self) -> StepWork {
+        let n = self.p.grid_points as f64;
+        let modes = (self.p.grid_points / 2 + 1) as f64;
+        let complex = std::mem::size_of::<Complex64>() as f64;
+        let entry = std::mem::size_of::<Entry>() as f64;
+        let ffts = Work {
+            flops: 2.0 * fft_flops(self.p.grid_points),
+            read: 2.0 * n * complex,
+            written: 2.0 * n * complex,
+        };
+        // the four real fields ↔ the two packed complex arrays
+        let pack = Work {
+            flops: 0.0,
+            read: 4.0 * n * 8.0,
+            written: 2.0 * n * complex,
+        };
+        let mut w = StepWork::default();
+        w.add(
+            Phase::ForwardFft,
+            pack + ffts
+                + Work {
+                    flops: modes * SPLIT_FLOPS_PER_MODE,
+                    read: 2.0 * n * complex,
+                    written: modes * entry,
+                },
+        );
+        w.add(
+            Phase::Convolution,
+            match &self.path {
+                Path::Direct { weights, .. } => weights.work(),
+                Path::Fast(fast) => fast.work(),
+            },
+        );
+        let unpack = Work {
+            flops: 4.0 * n,
+            read: pack.written,
+            written: pack.read,
+        };
+        let assemble = Work {
+            flops: (modes - 1.0) * ASSEMBLE_FLOPS_PER_MODE,
+            read: modes * (std::mem::size_of::<ModeSums>() as f64 + entry + 8.0),
+            written: 2.0 * n * complex,
+        };
+        w.add(Phase::InverseFft, assemble + ffts + unpack);
+        w
     }
 
     /// Two complex FFTs of the packed real fields; spectra j = 0..=N/2 of the four fields.
@@ -292,6 +360,24 @@ impl HalfSpaces {
     }
 }
 
+/// Flops of one complex FFT of size `n` [-]: 5 n log2 n, the count of a radix-2 transform
+/// (rustfft's mixed radices do somewhat fewer; other sizes, somewhat more).
+pub(crate) fn fft_flops(n: usize) -> f64 {
+    let n = n as f64;
+    5.0 * n * n.log2()
+}
+
+/// Flops per mode of the split of the two packed transforms into the four spectra
+/// ([`HalfSpaces::step`], forward): per packed array a complex sum and a difference (2 adds
+/// each), a halving (2 multiplies) and a product by −i/2 (a full complex product: 6).
+const SPLIT_FLOPS_PER_MODE: f64 = 2.0 * (2.0 + 2.0 + 2.0 + 6.0);
+
+/// Flops per mode j ≥ 1 of the assembly of F^± (§2): μ k_j (1 multiply); for each of the four
+/// F (F^±_1, F^±_2) a real times a complex sum (2), the (2 − η) coupling, its sum with the
+/// convolution and its product by μk (2 + 2 + 2) and the final sum (2); the two packed values
+/// and their conjugate halves (4 complex adds, 8).
+const ASSEMBLE_FLOPS_PER_MODE: f64 = 1.0 + 4.0 * (2.0 + 6.0 + 2.0) + 8.0;
+
 /// The operator of a run (docs/spectral-model.md §2.1): one [`HalfSpaces`] for two identical
 /// half-spaces, or one per half-space with its own material. Each half-space's relation involves
 /// only its own face (T^± = T^0 ∓ Z^± v^± + f^±), so a split operator takes the top face's f^+
@@ -315,13 +401,53 @@ pub enum Operator {
 impl Operator {
     /// Records u^n and writes f^n of both faces (§4.2 steps 2–4).
     pub fn step(&mut self, u: &FaceFields, f: &mut FaceFields) {
+        self.step_timed(u, f, &mut Clock::default());
+    }
+
+    /// As [`step`](Operator::step), booking its phases to `clock`. For two materials the top
+    /// operator's phases are the laps; the bottom one, run beside it, is booked beside, and the
+    /// wait for it and the copy of its face to [`Phase::SecondHalfSpace`].
+    pub fn step_timed(&mut self, u: &FaceFields, f: &mut FaceFields, clock: &mut Clock) {
         match self {
-            Operator::Identical(h) => h.step(u, f),
+            Operator::Identical(h) => h.step_timed(u, f, clock),
             Operator::Split { top, bottom, scratch } => {
                 let (s, g) = (&mut **scratch, &mut *f);
-                rayon::join(|| top.step(u, g), || bottom.step(u, s));
+                let mut other = Clock::default();
+                rayon::join(
+                    || top.step_timed(u, g, clock),
+                    || {
+                        other.start();
+                        bottom.step_timed(u, s, &mut other)
+                    },
+                );
                 f.bottom_x.copy_from_slice(&scratch.bottom_x);
                 f.bottom_y.copy_from_slice(&scratch.bottom_y);
+                clock.lap(Phase::SecondHalfSpace);
+                clock.beside(&other);
+            }
+        }
+    }
+
+    /// Work of one step by phase ([`HalfSpaces::work`]): both operators' for two materials, the
+    /// bottom one's in the phases of the top one's, and the copy of the bottom face.
+    pub fn work(&self) -> StepWork {
+        match self {
+            Operator::Identical(h) => h.work(),
+            Operator::Split { top, bottom, scratch } => {
+                let (mut w, b) = (top.work(), bottom.work());
+                for p in Phase::ALL {
+                    w.add(p, b.of(p));
+                }
+                let face = 2.0 * scratch.bottom_x.len() as f64 * 8.0;
+                w.add(
+                    Phase::SecondHalfSpace,
+                    Work {
+                        flops: 0.0,
+                        read: face,
+                        written: face,
+                    },
+                );
+                w
             }
         }
     }

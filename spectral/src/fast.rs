@@ -22,6 +22,7 @@ use serde::{Deserialize, Serialize};
 use crate::convolution::ModeSums;
 use crate::history::{Entry, fill};
 use crate::modes::Modes;
+use crate::profile::Work;
 pub use crate::soe::SoeFit;
 
 /// Per-mode recursion coefficients and states, one contiguous block per mode.
@@ -53,6 +54,12 @@ pub(crate) struct State {
     re: Lanes,
     im: Lanes,
 }
+
+/// Flops of one pole of one mode in [`mode_kernel`]: the state update s ← z s + u on the 8 lanes
+/// (real part 2 multiplies and 2 adds, imaginary part 2 multiplies and 1 add: 7 a lane) and the
+/// two accumulations H += Re(g_H s), K += Re(g_K12 s) (2 multiplies and 2 adds each: 8 a lane),
+/// 15 × 8 = 120.
+pub(crate) const FLOPS_PER_POLE: f64 = 120.0;
 
 /// One mode: s ← z s + u for every pole, then H = Σ Re(g_H s) (H11 on x lanes, H22 on y lanes) and
 /// K = Σ Re(g_K12 s). Written as vertical operations on 8-lane arrays so it vectorises.
@@ -127,6 +134,21 @@ impl FastConvolution {
         self.z.len() * 16 + self.g.len() * 48 + self.s.len() * std::mem::size_of::<State>()
     }
 
+    /// Work of one [`step`](FastConvolution::step) (docs/spectral-model.md §4.3): per mode
+    /// j ≥ 1, its spectra Û read and its eight sums written; per pole of the mode, z and the
+    /// three g read, the state read and written back, and [`FLOPS_PER_POLE`] flops. Mode 0's
+    /// coefficients and states, which [`bytes`](FastConvolution::bytes) counts, are not touched.
+    pub fn work(&self) -> Work {
+        let modes = (self.s.len() / self.r.max(1)).saturating_sub(1) as f64;
+        let poles = modes * self.r as f64;
+        let state = std::mem::size_of::<State>() as f64;
+        Work {
+            flops: poles * FLOPS_PER_POLE,
+            read: modes * std::mem::size_of::<Entry>() as f64 + poles * (16.0 + 48.0 + state),
+            written: modes * std::mem::size_of::<ModeSums>() as f64 + poles * state,
+        }
+    }
+
     /// The evolving part, for a checkpoint: the recursion states (poles, weights and `r` are the
     /// fit's).
     pub(crate) fn saved(&self) -> FastState<'_> {
@@ -192,4 +214,36 @@ impl FastConvolution {
 pub(crate) struct FastState<'a> {
     /// s_{j,p}(n) at [j r + p], mode 0 included (unused, zero).
     pub states: Cow<'a, [State]>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// N = 8 (modes j = 0..=4, four with a history) and a fit of two poles: the work of a step
+    /// counted by hand.
+    #[test]
+    fn work_of_a_step_is_counted_per_mode_and_pole() {
+        let modes = Modes::new(8, 1.0, 0.2, 100.0, 10);
+        let one = vec![Complex64::new(1.0, 0.0); 2];
+        let fit = SoeFit {
+            poles: vec![Complex64::new(-1.0, 0.5), Complex64::new(-2.0, 0.0)],
+            weight: vec![2.0, 1.0],
+            amps: [one.clone(), one.clone(), one],
+            max_error: 0.0,
+        };
+        let fast = FastConvolution::new(&modes, &fit);
+        // state: 8 lanes × (re, im) × 8 B = 128 B; z 16 B; g 3 × 16 B
+        assert_eq!(std::mem::size_of::<State>(), 128);
+        assert_eq!(fast.bytes(), 5 * 2 * (16 + 48 + 128), "mode 0 included");
+        let w = fast.work();
+        // 4 modes × 2 poles × (8 lanes × (4 + 3) state update + 8 lanes × (4 + 4) sums)
+        assert_eq!(w.flops, (4 * 2 * (8 * 7 + 8 * 8)) as f64);
+        assert_eq!(w.flops, 960.0);
+        // per mode Û read (4 complex, 64 B); per pole z, g and the state read
+        assert_eq!(w.read, (4 * 64 + 4 * 2 * (16 + 48 + 128)) as f64);
+        // per mode the 8 complex sums (128 B); per pole the state written back
+        assert_eq!(w.written, (4 * 128 + 4 * 2 * 128) as f64);
+        assert_eq!(w.bytes(), 3328.0);
+    }
 }

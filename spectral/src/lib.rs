@@ -5,7 +5,8 @@
 //! §3.2). Method notes: docs/spectral-model.md. SI units throughout.
 //!
 //! Public surface: [`Scene`], [`run`], [`run_with_progress`], [`run_checkpointed`], [`ended`], [`RunOutput`],
-//! [`TipRecord`], errors; the building blocks ([`kernels`], [`elastodynamics`], [`law`]) are
+//! [`TipRecord`], errors, the time profile of a run and the work of a step ([`profile`],
+//! [`work_per_step`]); the building blocks ([`kernels`], [`elastodynamics`], [`law`]) are
 //! public for verification.
 #![warn(missing_docs)]
 
@@ -22,6 +23,7 @@ pub mod law;
 pub mod loading;
 mod modes;
 pub mod output;
+pub mod profile;
 mod scene;
 mod soe;
 mod solver;
@@ -36,6 +38,7 @@ pub use elastodynamics::{ConvolutionStats, FaceFields, HalfSpaceParams, HalfSpac
 pub use error::{BuildError, RunError, SceneError};
 pub use estimate::estimate;
 pub use output::{ContactMeanRecord, FieldRecord, RunOutput, RunStats, TipRecord, write_csv};
+pub use profile::{Phase, Profile, StepWork, Work};
 pub use scene::{
     ContactFriction, Convolution, DEFAULT_FAST_TOLERANCE, InitialInterface, Nucleation, Ramp, Scene, Solid,
     WaveSpeeds, rayleigh_ratio, slip_wave_exists,
@@ -44,6 +47,14 @@ pub use scene::{
 /// Runs the scene from t = 0 to T = `[loading].duration`.
 pub fn run(scene: &Scene) -> Result<RunOutput, RunError> {
     run_with_progress(scene, &mut |_, _| {}, &AtomicBool::new(false))
+}
+
+/// The work of one step of `scene`'s model, per phase (bytes and flops as the model counts
+/// them, the direct path's windows full; [`profile`]): builds the model (the kernel fit of the
+/// fast path included) without running it.
+pub fn work_per_step(scene: &Scene) -> Result<StepWork, BuildError> {
+    let (model, _, ws) = solver::build(scene)?;
+    Ok(solver::work(&model, &ws))
 }
 
 /// How a run ended, from what [`run_with_progress`] (or [`run`]) returned: the error when there
@@ -144,6 +155,8 @@ pub fn run_checkpointed(
             status: preflight::Status::Interrupted,
             last_step: 0,
         },
+        profile: Profile::default(),
+        work: solver::work(&model, &ws),
     };
     let mut at = match resumed {
         Some(r) => checkpoint::restore(r, &mut st, &mut ws, &mut out)?,
@@ -158,6 +171,8 @@ pub fn run_checkpointed(
         // thread and sleeping on a latch twice per step (measured: ~13 % of the run in the
         // kernel's context-switch paths).
         let failed = rayon::scope(|_| {
+            // the progress report and the checkpoint between two chunks are not booked
+            ws.clock.start();
             for n in first..end {
                 let t = n as f64 * dt;
                 if stop.load(Ordering::Relaxed) {
@@ -179,13 +194,16 @@ pub fn run_checkpointed(
                     diag::fields(&model, &st, t, &mut out.fields);
                     at.next_field += 1;
                 }
+                ws.clock.lap(Phase::Records);
                 if n < last {
                     solver::advance(&model, &mut st);
                 }
+                ws.clock.lap(Phase::Update);
                 at.next_step = n + 1;
             }
             None
         });
+        out.profile = ws.clock.profile();
         if let Some((n, t, None)) = failed {
             // the state after step n − 1 (u^n included), resumable at step n
             let stopped = (n.saturating_sub(1), (t - dt).max(0.0));

@@ -4,6 +4,8 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use crate::profile::{Profile, StepWork};
+
 /// One sample of the crack-tip history (docs/solver-api.md). Positions are x coordinates [m] in the
 /// scene frame (the pre-crack spans center_x ± half_length); t [s] is the time at which the
 /// displacements that define the tips hold (t_n = n Δt, docs/spectral-model.md §8.8), unshifted.
@@ -96,8 +98,9 @@ pub struct RunStats {
     pub last_step: u64,
 }
 
-/// Everything a run produces.
-#[derive(Debug, Clone, PartialEq)]
+/// Everything a run produces. Two outputs are equal when their records are: the wall times
+/// ([`RunOutput::profile`]) differ between runs and are left out of the comparison.
+#[derive(Debug, Clone)]
 pub struct RunOutput {
     /// Time step Δt [s].
     pub time_step: f64,
@@ -111,6 +114,34 @@ pub struct RunOutput {
     pub fields: Vec<FieldRecord>,
     /// Cost figures.
     pub stats: RunStats,
+    /// Wall time per phase of the steps this process computed (after its checkpoint, for a
+    /// resumed run; profiling: printed by the binary, never written nor checkpointed).
+    pub profile: Profile,
+    /// Work of one step per phase, as the model counts it (bytes and flops; not measured).
+    pub work: StepWork,
+}
+
+impl PartialEq for RunOutput {
+    fn eq(&self, other: &RunOutput) -> bool {
+        // every field named: a new one is a compile error here until it is compared or left out
+        let RunOutput {
+            time_step,
+            grid_spacing,
+            tips,
+            contact,
+            fields,
+            stats,
+            profile: _,
+            work,
+        } = self;
+        *time_step == other.time_step
+            && *grid_spacing == other.grid_spacing
+            && *tips == other.tips
+            && *contact == other.contact
+            && *fields == other.fields
+            && *stats == other.stats
+            && *work == other.work
+    }
 }
 
 fn write<T: Serialize>(path: PathBuf, records: &[T]) -> std::io::Result<PathBuf> {

@@ -10,6 +10,7 @@ use crate::law::Impedances;
 use crate::law::cohesive::{CohesiveParams, Strength};
 use crate::law::point::{self, Drive, Point, PointLaw};
 use crate::loading;
+use crate::profile::{Clock, Phase, StepWork, Work};
 use crate::scene::{InitialInterface, Scene, Solid};
 
 /// Immutable model: grid, law parameters, loads.
@@ -32,10 +33,12 @@ pub(crate) struct State {
     pub points: Vec<Point>,
 }
 
-/// Buffers and the elastodynamic operator.
+/// Buffers, the elastodynamic operator and the clock of the step's phases.
 pub(crate) struct Workspace {
     pub half: Operator,
     pub f: FaceFields,
+    /// Wall time per phase (this process's steps; never checkpointed).
+    pub clock: Clock,
 }
 
 /// Builds model, initial state (u = 0, pre-crack cut) and workspace; the only place that allocates.
@@ -129,6 +132,7 @@ pub(crate) fn build(scene: &Scene) -> Result<(Model, State, Workspace), BuildErr
     let ws = Workspace {
         half,
         f: FaceFields::zeros(n),
+        clock: Clock::calibrated(),
     };
     Ok((model, state, ws))
 }
@@ -169,14 +173,52 @@ pub(crate) fn far_field(model: &Model, t: f64) -> (f64, f64) {
 pub(crate) fn step(model: &Model, st: &mut State, ws: &mut Workspace, n: u64) -> Option<usize> {
     let t = n as f64 * model.dt;
     let load = far_field(model, t);
-    ws.half.step(&st.u, &mut ws.f);
+    ws.half.step_timed(&st.u, &mut ws.f, &mut ws.clock);
     let (f, u) = (&ws.f, &st.u);
-    st.points
+    let blown = st
+        .points
         .par_iter_mut()
         .enumerate()
         .with_min_len(512)
         .filter_map(|(m, p)| solve_point(model, load, m, f, u, p).then_some(m))
-        .min()
+        .min();
+    ws.clock.lap(Phase::Law);
+    blown
+}
+
+/// Flops of the law at one point, on its most common path (intact or cohesive, stuck): the
+/// drive (7 adds), the strength update (damage ratio: 2 divisions, 2 squares, 1 add, 1 square
+/// root; strengths: 6; 2 minima), the normal and shear stick solves (impedance-weighted mean 6,
+/// common velocity 3: 9 each), the Prakash update (4), the friction strength (2) and the blow-up
+/// guard (4 absolute values, 4 maxima). Comparisons and branches are not counted.
+const LAW_FLOPS_PER_POINT: f64 = 7.0 + (6.0 + 6.0 + 2.0) + 2.0 * 9.0 + 4.0 + 2.0 + 8.0;
+
+/// Work of one step by phase (docs/spectral-model.md §4.2): the operator's
+/// ([`Operator::work`]), then per grid point the law's and the update's (records aside):
+/// - law: f and u of the four face components read (64 B), the nucleation stress (8 B), the
+///   point's state read and written (`size_of::<Point>()` each way), [`LAW_FLOPS_PER_POINT`];
+/// - update: the four velocities of the point and u read, u written, 4 multiply-adds (8 flops).
+pub(crate) fn work(model: &Model, ws: &Workspace) -> StepWork {
+    let n = model.n as f64;
+    let point = std::mem::size_of::<Point>() as f64;
+    let mut w = ws.half.work();
+    w.add(
+        Phase::Law,
+        Work {
+            flops: n * LAW_FLOPS_PER_POINT,
+            read: n * (64.0 + 8.0 + point),
+            written: n * point,
+        },
+    );
+    w.add(
+        Phase::Update,
+        Work {
+            flops: n * 8.0,
+            read: n * (32.0 + 32.0),
+            written: n * 32.0,
+        },
+    );
+    w
 }
 
 /// Interface law at point m (§5.4): the dynamic stresses S^± = T^0 + f^± and the jumps δ^n of
