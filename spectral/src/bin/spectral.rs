@@ -130,19 +130,50 @@ fn why(ended: &RunEnded<spectral::RunOutput>) -> Option<String> {
 
 /// Writes the run's records (complete or partial) and says what went where: the run's
 /// statistics over `wall` seconds, spent on the steps after the first `from` (those of the
-/// checkpoint a resumed run started from), then one file a line.
+/// checkpoint a resumed run started from), the time profile of those steps and the work of one
+/// step with the rates it achieved, then one file a line.
 fn report(output: &spectral::RunOutput, out_dir: &Path, wall: f64, from: u64) -> anyhow::Result<()> {
     let files =
         spectral::write_csv(output, out_dir).with_context(|| format!("writing {}", out_dir.display()))?;
     let s = output.stats;
+    let computed = s.steps.saturating_sub(from);
     println!(
         "{} steps, N = {}, {:.2} s wall ({:.3} ms/step), {:.1} MB history streamed per step, {} exp terms",
         s.steps,
         s.grid_points,
         wall,
-        1e3 * wall / s.steps.saturating_sub(from).max(1) as f64,
+        1e3 * wall / computed.max(1) as f64,
         s.bytes_per_step as f64 / 1e6,
         s.exp_terms
+    );
+    let p = &output.profile;
+    let resumed = if from > 0 {
+        format!(" (steps {} to {}, resumed)", from + 1, s.steps)
+    } else {
+        String::new()
+    };
+    println!(
+        "{computed} steps{resumed} on {} thread(s); where the time went:\n{}",
+        rayon::current_num_threads(),
+        spectral::profile::table(p, computed, s.grid_points)
+    );
+    println!(
+        "the clock: {} laps at {:.0} ns = {:.4} s ({:.2} % of the laps' time)",
+        p.total_laps(),
+        1e9 * p.lap_cost_s,
+        p.clock_cost(),
+        100.0 * p.clock_cost() / p.total().max(f64::MIN_POSITIVE)
+    );
+    let w = output.work.total();
+    println!(
+        "work per step (as the model counts it): {:.2} MB moved ({:.2} MB read, {:.2} MB written), \
+         {:.2} Mflop, {:.2} flop/B; achieved per phase:\n{}",
+        w.bytes() / 1e6,
+        w.read / 1e6,
+        w.written / 1e6,
+        w.flops / 1e6,
+        w.intensity(),
+        spectral::profile::work_table(&output.work, p, computed)
     );
     for f in files {
         println!("{}", f.display());
