@@ -309,86 +309,103 @@ impl std::ops::Mul<V> for f64 {
     }
 }
 
-/// Numbers per block of a row of element forces: 4 corners × 2 components × [`LANES`].
-pub(crate) const BLOCK: usize = 8 * LANES;
-
-/// Length of a buffer of one element row's forces ([`row_forces`]) for `nx` elements per row.
+/// Length of a buffer of one element row's forces ([`row_forces`]) for `nx` elements per row:
+/// 8 arrays (corner a, component c) of the row's elements, padded to whole blocks.
 pub(crate) fn row_len(nx: usize) -> usize {
-    nx.div_ceil(LANES) * BLOCK
+    8 * nx.div_ceil(LANES) * LANES
 }
 
-/// Element forces of one element row into `out` ([`row_len`] numbers: per block of [`LANES`]
-/// elements, corner a, component c, lane q at `a·2L + c·L + q`) [N/m], from the displacement
-/// rows of its lower and upper layers (x, y pairs) [m].
+/// Blocks computed from one stack copy of their displacements ([`row_forces`]).
+const SEGMENT: usize = 32;
+
+/// Element forces of one element row into `out` ([`row_len`] numbers: corner a, component c of
+/// element e at `(2a + c)·E + e`, E = `out.len()` / 8) [N/m], from the displacement rows of its
+/// lower and upper layers (x, y pairs) [m].
 pub(crate) fn row_forces(k: &MappedStiffness, row: usize, lower: &[f64], upper: &[f64], out: &mut [f64]) {
+    for first in (0..k.nx.div_ceil(LANES)).step_by(SEGMENT) {
+        segment_forces(k, row, first, lower, upper, out, 0);
+    }
+}
+
+/// Blocks `first..` (at most [`SEGMENT`] of them, and at most the row's) of [`row_forces`] into
+/// `out`, whose first element is element `e0` of the row ([`row_forces`] layout, E = `out.len()`
+/// / 8).
+fn segment_forces(
+    k: &MappedStiffness,
+    row: usize,
+    first: usize,
+    lower: &[f64],
+    upper: &[f64],
+    out: &mut [f64],
+    e0: usize,
+) {
     #[cfg(target_arch = "x86_64")]
     if k.avx2 {
         // SAFETY: `avx2` is true only if the CPU reported AVX2 at run time (`MappedStiffness::new`).
-        return unsafe { row_forces_avx2(k, row, lower, upper, out) };
+        return unsafe { segment_avx2(k, row, first, lower, upper, out, e0) };
     }
-    row_forces_portable(k, row, lower, upper, out)
-}
-
-/// Block `b` of [`row_forces`] alone, into `out` ([`BLOCK`] numbers).
-fn row_block(k: &MappedStiffness, row: usize, b: usize, lower: &[f64], upper: &[f64], out: &mut [f64]) {
-    #[cfg(target_arch = "x86_64")]
-    if k.avx2 {
-        // SAFETY: as in `row_forces`.
-        return unsafe { block_avx2(k, row, b, lower, upper, out) };
-    }
-    block(k, row, b, lower, upper, out)
+    segment_portable(k, row, first, lower, upper, out, e0)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn row_forces_avx2(k: &MappedStiffness, row: usize, lower: &[f64], upper: &[f64], out: &mut [f64]) {
-    row_forces_portable(k, row, lower, upper, out)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn block_avx2(k: &MappedStiffness, row: usize, b: usize, lower: &[f64], upper: &[f64], out: &mut [f64]) {
-    block(k, row, b, lower, upper, out)
-}
-
-#[inline(always)]
-fn row_forces_portable(k: &MappedStiffness, row: usize, lower: &[f64], upper: &[f64], out: &mut [f64]) {
-    for (b, o) in out.chunks_exact_mut(BLOCK).enumerate() {
-        block(k, row, b, lower, upper, o);
-    }
+fn segment_avx2(
+    k: &MappedStiffness,
+    row: usize,
+    first: usize,
+    lower: &[f64],
+    upper: &[f64],
+    out: &mut [f64],
+    e0: usize,
+) {
+    segment_portable(k, row, first, lower, upper, out, e0)
 }
 
 #[inline(always)]
-fn block(k: &MappedStiffness, row: usize, b: usize, lower: &[f64], upper: &[f64], o: &mut [f64]) {
+fn segment_portable(
+    k: &MappedStiffness,
+    row: usize,
+    first: usize,
+    lower: &[f64],
+    upper: &[f64],
+    out: &mut [f64],
+    e0: usize,
+) {
     let nx = k.nx;
-    let shape = &k.blocks[row * nx.div_ceil(LANES) + b];
-    // the LANES + 1 nodes of the block in each row, x, y pairs; past the row's last node (in
-    // its last block) the last node again: those lanes' forces are never read
-    const SPAN: usize = 2 * (LANES + 1);
-    let span = |r: &[f64]| -> [f64; SPAN] {
-        let first = 2 * b * LANES;
-        match r.get(first..first + SPAN) {
-            Some(s) => s.try_into().expect("invariant: SPAN numbers"),
-            None => std::array::from_fn(|i| r[2 * (b * LANES + i / 2).min(nx) + i % 2]),
+    let per_row = nx.div_ceil(LANES);
+    let blocks = &k.blocks[row * per_row + first..(row + 1) * per_row];
+    let blocks = &blocks[..blocks.len().min(SEGMENT)];
+    let stride = out.len() / 8;
+    for (b, shape) in (first..).zip(blocks) {
+        // the LANES + 1 nodes of the block in each row, x, y pairs; past the row's last node
+        // (in its last block) the last node again: those lanes' forces are never read
+        const SPAN: usize = 2 * (LANES + 1);
+        let span = |r: &[f64]| -> [f64; SPAN] {
+            let n0 = 2 * b * LANES;
+            match r.get(n0..n0 + SPAN) {
+                Some(s) => s.try_into().expect("invariant: SPAN numbers"),
+                None => std::array::from_fn(|i| r[2 * (b * LANES + i / 2).min(nx) + i % 2]),
+            }
+        };
+        let (l, h) = (span(lower), span(upper));
+        let node = |r: &[f64; SPAN], shift: usize| V {
+            x: F4(std::array::from_fn(|q| r[2 * (q + shift)])),
+            y: F4(std::array::from_fn(|q| r[2 * (q + shift) + 1])),
+        };
+        let ue = [node(&l, 0), node(&l, 1), node(&h, 1), node(&h, 0)];
+        let fe = block_forces(shape, k.half_width, k.inv_half_width, &k.elasticity, &ue);
+        let e = b * LANES - e0;
+        for (a, corner) in fe.iter().enumerate() {
+            out[2 * a * stride + e..2 * a * stride + e + LANES].copy_from_slice(&corner.x.0);
+            out[(2 * a + 1) * stride + e..(2 * a + 1) * stride + e + LANES].copy_from_slice(&corner.y.0);
         }
-    };
-    let (l, h) = (span(lower), span(upper));
-    let node = |r: &[f64; SPAN], shift: usize| V {
-        x: F4(std::array::from_fn(|q| r[2 * (q + shift)])),
-        y: F4(std::array::from_fn(|q| r[2 * (q + shift) + 1])),
-    };
-    let ue = [node(&l, 0), node(&l, 1), node(&h, 1), node(&h, 0)];
-    let fe = block_forces(shape, k.half_width, k.inv_half_width, &k.elasticity, &ue);
-    for (a, corner) in fe.iter().enumerate() {
-        o[2 * a * LANES..(2 * a + 1) * LANES].copy_from_slice(&corner.x.0);
-        o[(2 * a + 1) * LANES..(2 * a + 2) * LANES].copy_from_slice(&corner.y.0);
     }
 }
 
 /// Force of corner `a`, component `c`, of element `e` in a [`row_forces`] buffer [N/m].
 #[inline(always)]
 fn at(r: &[f64], e: usize, a: usize, c: usize) -> f64 {
-    r[(e / LANES) * BLOCK + (2 * a + c) * LANES + e % LANES]
+    r[(2 * a + c) * (r.len() / 8) + e]
 }
 
 /// −f_int of the nodes of one layer into `out` (x, y pairs) [N/m] from the element forces of the
@@ -408,24 +425,27 @@ pub(crate) fn layer_from_rows(layer: usize, below: Option<&[f64]>, above: Option
     } else {
         [below, above]
     };
+    let nx = w - 1;
     for (r, left, right) in order.into_iter().flatten() {
-        for (i, o) in out.chunks_exact_mut(2).enumerate() {
-            if i >= 1 {
-                o[0] -= at(r, i - 1, left, 0);
-                o[1] -= at(r, i - 1, left, 1);
-            }
-            if i + 1 < w {
-                o[0] -= at(r, i, right, 0);
-                o[1] -= at(r, i, right, 1);
-            }
+        let stride = r.len() / 8;
+        let part = |a: usize, c: usize| &r[(2 * a + c) * stride..(2 * a + c) * stride + nx];
+        let (lx, ly, rx, ry) = (part(left, 0), part(left, 1), part(right, 0), part(right, 1));
+        // node i: element i − 1's corner, then element i's
+        out[0] -= rx[0];
+        out[1] -= ry[0];
+        for (i, o) in out[2..2 * nx].chunks_exact_mut(2).enumerate() {
+            o[0] = o[0] - lx[i] - rx[i + 1];
+            o[1] = o[1] - ly[i] - ry[i + 1];
         }
+        out[2 * nx] -= lx[nx - 1];
+        out[2 * nx + 1] -= ly[nx - 1];
     }
 }
 
 /// f = −f_int(u) (overwrites `f`). Element rows are processed in two passes, those whose lower
 /// node layer is even, then odd: within a pass the rows write disjoint layer pairs, so the
 /// parallel scatter has no race and needs no atomics. Each row's element forces go through
-/// [`row_forces`] a block at a time and are scattered in element order.
+/// [`row_forces`]'s segments and are scattered in element order.
 pub(crate) fn internal_forces(grid: &Grid, k: &MappedStiffness, u: &[Vector2<f64>], f: &mut [Vector2<f64>]) {
     let nx = grid.nx;
     let w = nx + 1;
@@ -447,13 +467,13 @@ pub(crate) fn internal_forces(grid: &Grid, k: &MappedStiffness, u: &[Vector2<f64
                 &flat[2 * layer * w..2 * (layer + 1) * w],
                 &flat[2 * (layer + 1) * w..2 * (layer + 2) * w],
             );
-            let mut block = [0.0; BLOCK];
-            for b in 0..nx.div_ceil(LANES) {
-                // one block at a time: a row's forces would need a buffer per task
-                row_block(k, r, b, ul, uh, &mut block);
-                for c in b * LANES..((b + 1) * LANES).min(nx) {
-                    let fe =
-                        |a: usize| Vector2::new(at(&block, c % LANES, a, 0), at(&block, c % LANES, a, 1));
+            let mut segment = [0.0; 8 * SEGMENT * LANES];
+            for first in (0..nx.div_ceil(LANES)).step_by(SEGMENT) {
+                // a segment at a time: a row's forces would need a buffer per task
+                segment_forces(k, r, first, ul, uh, &mut segment, first * LANES);
+                for c in first * LANES..((first + SEGMENT) * LANES).min(nx) {
+                    let e = c - first * LANES;
+                    let fe = |a: usize| Vector2::new(at(&segment, e, a, 0), at(&segment, e, a, 1));
                     lo[c] -= fe(0);
                     lo[c + 1] -= fe(1);
                     hi[c + 1] -= fe(2);
@@ -525,13 +545,15 @@ mod tests {
         );
     }
 
-    /// A row of 11 elements (two full blocks and a padded one), each of its own shape: the AVX2
-    /// path gives the bits of the portable one, every element the bits it has alone in a row,
-    /// whatever its lane, and the padding changes nothing.
+    /// A row of two segments, the second of two full blocks and a padded one, each element of its
+    /// own shape: the AVX2
+    /// path gives the bits of the portable one, a segment starting at the second block the bits
+    /// of the whole row, every element the bits it has alone in a row, whatever its lane, and
+    /// the padding changes nothing.
     #[test]
     fn every_lane_gives_the_bits_of_its_element_alone() {
         let d = crate::law::elastic::PlaneStrain::new(7e6, 0.35, 1230.0).d_matrix();
-        let (h, nx) = (1e-3, 11);
+        let (h, nx) = (1e-3, SEGMENT * LANES + 11);
         let y = |i: usize, j: usize| j as f64 * h * (1.0 + 0.3 * (i as f64 * 0.9).sin());
         let corners = |e: usize| {
             let x = |i: usize| i as f64 * h;
@@ -549,11 +571,27 @@ mod tests {
         let row = |j: usize| -> Vec<f64> { (0..=nx).flat_map(|i| [u(i, j).x, u(i, j).y]).collect() };
         let (lower, upper) = (row(0), row(1));
         let mut portable = vec![f64::NAN; row_len(nx)];
-        row_forces_portable(&k, 0, &lower, &upper, &mut portable);
+        for first in (0..nx.div_ceil(LANES)).step_by(SEGMENT) {
+            segment_portable(&k, 0, first, &lower, &upper, &mut portable, 0);
+        }
         let mut dispatched = vec![f64::NAN; row_len(nx)];
         row_forces(&k, 0, &lower, &upper, &mut dispatched);
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-        assert_eq!(bits(&portable), bits(&dispatched), "AVX2 against portable");
+        assert!(bits(&portable) == bits(&dispatched), "AVX2 against portable");
+        // a segment from the second block on (SEGMENT blocks)
+        let mut blocks = vec![f64::NAN; row_len(nx)];
+        segment_forces(&k, 0, 1, &lower, &upper, &mut blocks, 0);
+        let from_second = |v: &[f64]| {
+            let stride = v.len() / 8;
+            let end = ((1 + SEGMENT) * LANES).min(nx);
+            (0..8)
+                .flat_map(|a| bits(&v[a * stride + LANES..a * stride + end]))
+                .collect::<Vec<_>>()
+        };
+        assert!(
+            from_second(&portable) == from_second(&blocks),
+            "a segment from block 1 against a row"
+        );
         for e in 0..nx {
             let ue = [u(e, 0), u(e + 1, 0), u(e + 1, 1), u(e, 1)];
             let alone = forces_of(&corners(e), h, &d, &ue);

@@ -101,7 +101,7 @@ enum Kernel<'a> {
 }
 
 /// A band's scratch: two rows of forces (x, y pairs) [N/m], and on a mapped mesh the element
-/// forces of two element rows, 8 numbers per element [N/m].
+/// forces of two element rows [N/m].
 struct Scratch<'a> {
     ring: &'a mut [f64],
     rows: &'a mut [f64],
