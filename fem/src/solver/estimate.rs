@@ -24,11 +24,17 @@ const BYTES_PER_ELEMENT: usize = 256;
 const SECONDS_PER_ELEMENT_STEP: f64 = 5e-9;
 
 /// The same on a mesh mapped onto an interface polyline (`fem.interface_polyline` or a sine
-/// interface: every element its own shape, forces computed element by element, no one-pass
-/// sweep) [s]: 2.9e-8 measured on the sinusoidal interface (750 × 250, 14 632 steps, 80 s on 2
-/// threads for either model); rounded up. A split `[material]` takes the same element-by-element
-/// path and is priced alike.
-const MAPPED_SECONDS_PER_ELEMENT_STEP: f64 = 3e-8;
+/// interface: every element its own shape, its forces computed on the fly in the one-pass sweep)
+/// [s]: 2.9e-8 was measured on the sinusoidal interface (750 × 250, 14 632 steps, 80 s on 2
+/// threads for either model) when those meshes took the separate passes; the sweep ran the same
+/// run 1.47 times faster on a second machine (93.1 s → 63.5 s, docs/performance.md, "Every mesh
+/// kind side by side"): 2.0e-8.
+const MAPPED_SECONDS_PER_ELEMENT_STEP: f64 = 2e-8;
+
+/// The same on a grid of two materials (a split `[material]`): one stored K_e per element and the
+/// separate passes [s]; priced as the mapped meshes were before their sweep (2.9e-8, rounded up),
+/// not measured on its own.
+const PER_ELEMENT_SECONDS_PER_ELEMENT_STEP: f64 = 3e-8;
 
 /// Wall time per element and step on 2 cores while the far field's ramps accelerate and its body
 /// load acts on every node (`far_field = true`: those steps take the separate passes) [s]:
@@ -107,7 +113,9 @@ fn elements(scene: &Scene) -> (f64, f64) {
 pub fn estimate(scene: &Scene) -> Estimate {
     let f = &scene.fem;
     let h = f.element_size;
-    let per_element_step = if f.interface_polyline.is_some() || scene.bottom_material.is_some() {
+    let per_element_step = if scene.bottom_material.is_some() {
+        PER_ELEMENT_SECONDS_PER_ELEMENT_STEP
+    } else if f.interface_polyline.is_some() {
         MAPPED_SECONDS_PER_ELEMENT_STEP
     } else {
         SECONDS_PER_ELEMENT_STEP
