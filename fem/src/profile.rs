@@ -138,32 +138,17 @@ pub struct PhaseTime {
 }
 
 /// The profile as an aligned text table: phase, seconds, share of the total, µs per step and ns
-/// per element-step.
+/// per element-step (`preflight::profile::table`).
 pub fn table(phases: &[PhaseTime], steps: u64, elements: usize) -> String {
-    let total: f64 = phases.iter().filter(|p| !p.beside).map(|p| p.seconds).sum();
-    let per = |s: f64, n: f64| if n > 0.0 { s / n } else { f64::NAN };
-    let line = |name: &str, s: f64| {
-        format!(
-            "{:<18} {:>9.3} {:>6.1}% {:>10.1} {:>14.2}\n",
-            name,
-            s,
-            100.0 * per(s, total),
-            1e6 * per(s, steps as f64),
-            1e9 * per(s, steps as f64 * elements as f64)
-        )
-    };
-    let mut out = format!(
-        "{:<18} {:>9} {:>7} {:>10} {:>14}\n",
-        "phase", "s", "share", "us/step", "ns/elem-step"
-    );
-    for p in phases.iter().filter(|p| !p.beside) {
-        out += &line(p.phase, p.seconds);
-    }
-    out += &line("total", total);
-    for p in phases.iter().filter(|p| p.beside) {
-        out += &line(&format!("{}, beside", p.phase), p.seconds);
-    }
-    out
+    let rows: Vec<preflight::profile::Row<'_>> = phases
+        .iter()
+        .map(|p| preflight::profile::Row {
+            phase: p.phase,
+            seconds: p.seconds,
+            beside: p.beside,
+        })
+        .collect();
+    preflight::profile::table(&rows, steps, elements as u64, "ns/elem-step")
 }
 
 #[cfg(test)]

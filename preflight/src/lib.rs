@@ -10,6 +10,7 @@
 //! - [`checkpoint`]: a run's complete state, from which a killed run resumes;
 //! - [`ended`]: how a run ended (reached T, unstable, stopped on request), in one form for both
 //!   models' command lines and the harness;
+//! - [`profile`]: the table of where a run's time went, printed by both models' commands;
 //! - [`stop`], [`options`] and [`command`] (feature `cli`): Ctrl-C and SIGTERM stop a run at its
 //!   next step; the command-line options every command shares; the checks and last line the two
 //!   models' commands share around their run.
@@ -25,6 +26,7 @@ pub mod input;
 #[cfg(feature = "cli")]
 pub mod options;
 pub mod paths;
+pub mod profile;
 pub mod save;
 #[cfg(feature = "cli")]
 pub mod stop;

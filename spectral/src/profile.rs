@@ -192,35 +192,20 @@ impl Clock {
     }
 }
 
-/// The profile as an aligned text table, in the `fem` command's form: phase, seconds, share of
-/// the total, µs per step and ns per grid-point step, over `steps` steps of `points` grid
-/// points; then the work beside the laps.
+/// The profile as an aligned text table, in the `fem` command's form
+/// (`preflight::profile::table`): phase, seconds, share of the total, µs per step and ns per
+/// grid-point step, over `steps` steps of `points` grid points.
 pub fn table(profile: &Profile, steps: u64, points: u64) -> String {
-    let phases = profile.phases();
-    let total = profile.total();
-    let per = |s: f64, n: f64| if n > 0.0 { s / n } else { f64::NAN };
-    let line = |name: &str, s: f64| {
-        format!(
-            "{:<18} {:>9.3} {:>6.1}% {:>10.1} {:>15.2}\n",
-            name,
-            s,
-            100.0 * per(s, total),
-            1e6 * per(s, steps as f64),
-            1e9 * per(s, steps as f64 * points as f64)
-        )
-    };
-    let mut out = format!(
-        "{:<18} {:>9} {:>7} {:>10} {:>15}\n",
-        "phase", "s", "share", "us/step", "ns/point-step"
-    );
-    for p in phases.iter().filter(|p| !p.beside) {
-        out += &line(p.phase.name(), p.seconds);
-    }
-    out += &line("total", total);
-    for p in phases.iter().filter(|p| p.beside) {
-        out += &line(&format!("{}, beside", p.phase.name()), p.seconds);
-    }
-    out
+    let rows: Vec<preflight::profile::Row<'_>> = profile
+        .phases()
+        .iter()
+        .map(|p| preflight::profile::Row {
+            phase: p.phase.name(),
+            seconds: p.seconds,
+            beside: p.beside,
+        })
+        .collect();
+    preflight::profile::table(&rows, steps, points, "ns/point-step")
 }
 
 /// Work of one phase of a step: floating-point operations and the bytes its loops read and
