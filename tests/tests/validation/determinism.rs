@@ -104,6 +104,29 @@ fn fem_output_on_a_gmsh_mesh_is_identical_between_runs_and_thread_counts() {
     });
 }
 
+/// The rough interface on its mapped mesh (`scenes/tiny-fem-rough-interface.toml`, 150 × 50
+/// elements of their own shapes: 4 bands of the one-pass sweep, each element row's forces
+/// computed once and summed into its two layers, so two and three threads split the bands
+/// unevenly).
+#[cfg(feature = "fem")]
+#[test]
+fn fem_output_on_a_mapped_mesh_is_identical_between_runs_and_thread_counts() {
+    let scene = fem::Scene::from_toml_str(&validation::scene_text("tiny-fem-rough-interface")).unwrap();
+    assert_identical("fem-mapped", |dir| {
+        let out = fem::run(&scene).unwrap();
+        let inserted = out
+            .arrivals
+            .iter()
+            .filter(|a| a.insertion_time.is_finite())
+            .count();
+        assert!(
+            inserted > 0,
+            "no facet inserted: the run does not reach the cohesive path"
+        );
+        fem::write_csv(&out, dir).unwrap();
+    });
+}
+
 #[cfg(feature = "spectral")]
 #[test]
 fn spectral_output_is_identical_between_runs_and_thread_counts() {
