@@ -89,19 +89,7 @@ fn fem_output_on_a_gmsh_mesh_is_identical_between_runs_and_thread_counts() {
         ],
     );
     let scene = fem::Scene::from_toml_str_in(&text, &validation::repo_root().join("scenes")).unwrap();
-    assert_identical("fem-mesh", |dir| {
-        let out = fem::run(&scene).unwrap();
-        let inserted = out
-            .arrivals
-            .iter()
-            .filter(|a| a.insertion_time.is_finite())
-            .count();
-        assert!(
-            inserted > 0,
-            "no facet inserted: the run does not reach the cohesive path"
-        );
-        fem::write_csv(&out, dir).unwrap();
-    });
+    assert_identical("fem-mesh", |dir| run_through_insertion(&scene, dir));
 }
 
 /// The rough interface on its mapped mesh (`scenes/tiny-fem-rough-interface.toml`, 150 × 50
@@ -112,19 +100,24 @@ fn fem_output_on_a_gmsh_mesh_is_identical_between_runs_and_thread_counts() {
 #[test]
 fn fem_output_on_a_mapped_mesh_is_identical_between_runs_and_thread_counts() {
     let scene = fem::Scene::from_toml_str(&validation::scene_text("tiny-fem-rough-interface")).unwrap();
-    assert_identical("fem-mapped", |dir| {
-        let out = fem::run(&scene).unwrap();
-        let inserted = out
-            .arrivals
-            .iter()
-            .filter(|a| a.insertion_time.is_finite())
-            .count();
-        assert!(
-            inserted > 0,
-            "no facet inserted: the run does not reach the cohesive path"
-        );
-        fem::write_csv(&out, dir).unwrap();
-    });
+    assert_identical("fem-mapped", |dir| run_through_insertion(&scene, dir));
+}
+
+/// Runs `scene`, checks that it inserted a facet (so the cohesive path ran) and writes its CSVs
+/// into `dir`.
+#[cfg(feature = "fem")]
+fn run_through_insertion(scene: &fem::Scene, dir: &Path) {
+    let out = fem::run(scene).unwrap();
+    let inserted = out
+        .arrivals
+        .iter()
+        .filter(|a| a.insertion_time.is_finite())
+        .count();
+    assert!(
+        inserted > 0,
+        "no facet inserted: the run does not reach the cohesive path"
+    );
+    fem::write_csv(&out, dir).unwrap();
 }
 
 #[cfg(feature = "spectral")]
