@@ -45,8 +45,8 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
     contact_step::prepare(model, state, ws);
     let far_field = absorbing::far_field_accelerates(model, t1);
     let overlap = !sample && !far_field;
-    // (swept, whether f holds the bulk forces, contact): without a one-pass sweep (a mapped or a
-    // Gmsh mesh) the bulk forces themselves run beside the detection
+    // (swept, whether f holds the bulk forces, contact): without a one-pass sweep (a Gmsh mesh,
+    // a grid of two materials) the bulk forces themselves run beside the detection
     let (swept, forces_done, contact) = if overlap {
         let (swept, contact) = forces_beside_detection(model, state, ws, dt);
         (swept, true, Some(contact))

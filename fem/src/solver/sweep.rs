@@ -24,8 +24,8 @@ use rayon::prelude::*;
 
 /// Forces of every layer into `f` (all of a deferred layer, the edge nodes of the others) and
 /// the advance of the interior nodes of the other layers; returns the largest |v_{n+1}|² among
-/// them (∞ if one is not finite). `None` when the mesh has no shared stencil: the caller then
-/// runs the separate passes.
+/// them (∞ if one is not finite). `None` when the mesh is neither a grid with a shared stencil nor a
+/// mapped grid (a Gmsh mesh, a grid of two materials): the caller then runs the separate passes.
 pub(crate) fn forces_and_advance(
     model: &Model,
     u: &mut [Vector2<f64>],
