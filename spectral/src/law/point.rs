@@ -99,6 +99,10 @@ impl Point {
 /// open ones, so that it follows the interface's normal stress history whatever the damage.
 /// On a closed point that has begun to weaken (not intact), the shear strength is τ_s + μ|σ̃|;
 /// on an open or intact one, τ_s.
+///
+/// Inlined into the solver's per-point loop: called, it returns the point through memory with
+/// field-sized stores that the caller reads back wider, a store-forwarding stall per point.
+#[inline(always)]
 pub fn step(law: &PointLaw, d: &Drive, old: &Point) -> Point {
     let mut s = cohesive::update(&law.cohesive, d.opening, d.slip, old.strength);
     let normal = contact::solve(&NormalInput {
