@@ -8,6 +8,7 @@
 
 use std::sync::Arc;
 
+use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 use rustfft::{Fft, FftPlanner};
 use serde::{Deserialize, Serialize};
@@ -297,67 +298,137 @@ impl HalfSpaces {
         w
     }
 
-    /// Two complex FFTs of the packed real fields; spectra j = 0..=N/2 of the four fields.
+    /// Two complex FFTs of the packed real fields; spectra j = 0..=N/2 of the four fields. Each
+    /// face is packed and transformed on its own rayon worker, then the modes are split in
+    /// parallel: every value is computed as by a serial loop, whatever the thread count.
     fn forward(&mut self, u: &FaceFields) {
-        let n = self.p.grid_points;
-        for m in 0..n {
-            self.a[m] = Complex64::new(u.top_x[m], u.top_y[m]);
-            self.b[m] = Complex64::new(u.bottom_x[m], u.bottom_y[m]);
-        }
-        fft_pair(
-            &self.fwd,
-            [&mut self.a, &mut self.b],
-            [&mut self.scratch, &mut self.scratch_b],
+        let plan = &self.fwd;
+        let (a, b) = (&mut self.a, &mut self.b);
+        let (sa, sb) = (&mut self.scratch, &mut self.scratch_b);
+        rayon::join(
+            || {
+                pack(a, &u.top_x, &u.top_y);
+                plan.process_with_scratch(a, sa);
+            },
+            || {
+                pack(b, &u.bottom_x, &u.bottom_y);
+                plan.process_with_scratch(b, sb);
+            },
         );
-        let half_i = Complex64::new(0.0, -0.5);
-        for j in 0..=n / 2 {
-            let (aj, an) = (self.a[j], self.a[(n - j) % n].conj());
-            let (bj, bn) = (self.b[j], self.b[(n - j) % n].conj());
-            self.spectra[j] = Entry {
-                top_x: 0.5 * (aj + an),
-                top_y: half_i * (aj - an),
-                bottom_x: 0.5 * (bj + bn),
-                bottom_y: half_i * (bj - bn),
-            };
-        }
+        let (a, b) = (&self.a[..], &self.b[..]);
+        let half = a.len() / 2;
+        self.spectra[0] = split(a[0], a[0], b[0], b[0]);
+        // mode j pairs a[j] with a[N − j]: a[1..=N/2] against a[N/2..N] read backwards
+        self.spectra[1..]
+            .par_iter_mut()
+            .zip(a[1..=half].par_iter().zip(a[half..].par_iter().rev()))
+            .zip(b[1..=half].par_iter().zip(b[half..].par_iter().rev()))
+            .with_min_len(PAR_MODES)
+            .for_each(|((e, (&aj, &an)), (&bj, &bn))| *e = split(aj, an, bj, bn));
     }
 
-    /// F^±(k_j) from the convolutions and the instantaneous (2−η) coupling, packed for the inverse.
+    /// F^±(k_j) from the convolutions and the instantaneous (2−η) coupling, packed for the
+    /// inverse: a[j] and b[j] for j = 0..=N/2, their conjugate halves a[N − j] and b[N − j] for
+    /// 0 < j < N/2, modes in parallel.
     fn assemble(&mut self) {
         let n = self.p.grid_points;
+        let half = n / 2;
         let (mu, c) = (self.p.shear_modulus, 2.0 - self.p.eta);
-        self.a[0] = Complex64::default();
-        self.b[0] = Complex64::default();
-        for j in 1..=n / 2 {
-            let (s, e, muk) = (&self.sums[j], &self.spectra[j], mu * self.modes.k[j]);
-            let couple = if j == n / 2 { 0.0 } else { muk };
-            let f1t = -muk * s.h11_top + mul_i(couple * (c * e.top_y + s.k12_top_y));
-            let f1b = muk * s.h11_bottom + mul_i(couple * (c * e.bottom_y + s.k12_bottom_y));
-            let f2t = -muk * s.h22_top - mul_i(couple * (c * e.top_x + s.k12_top_x));
-            let f2b = muk * s.h22_bottom - mul_i(couple * (c * e.bottom_x + s.k12_bottom_x));
-            self.a[j] = f1t + mul_i(f2t);
-            self.b[j] = f1b + mul_i(f2b);
-            if j != n / 2 {
-                self.a[n - j] = f1t.conj() + mul_i(f2t.conj());
-                self.b[n - j] = f1b.conj() + mul_i(f2b.conj());
-            }
-        }
+        let (sums, spectra, k) = (&self.sums[..], &self.spectra[..], &self.modes.k[..]);
+        let (a_low, a_high) = self.a.split_at_mut(half + 1);
+        let (b_low, b_high) = self.b.split_at_mut(half + 1);
+        a_low[0] = Complex64::default();
+        b_low[0] = Complex64::default();
+        // Nyquist mode: no coupling, no conjugate half
+        let [f1t, f2t, f1b, f2b] = forces(mu * k[half], 0.0, c, &sums[half], &spectra[half]);
+        a_low[half] = f1t + mul_i(f2t);
+        b_low[half] = f1b + mul_i(f2b);
+        // j = 1..N/2: a[j] in a_low, a[N − j] in a_high read backwards
+        a_low[1..half]
+            .par_iter_mut()
+            .zip(a_high.par_iter_mut().rev())
+            .zip(b_low[1..half].par_iter_mut().zip(b_high.par_iter_mut().rev()))
+            .zip(sums[1..half].par_iter().zip(&spectra[1..half]).zip(&k[1..half]))
+            .with_min_len(PAR_MODES)
+            .for_each(|(((aj, an), (bj, bn)), ((s, e), &kj))| {
+                let muk = mu * kj;
+                let [f1t, f2t, f1b, f2b] = forces(muk, muk, c, s, e);
+                *aj = f1t + mul_i(f2t);
+                *bj = f1b + mul_i(f2b);
+                // the conjugate half (the fields are real: F(−k) = F̄(k))
+                *an = f1t.conj() + mul_i(f2t.conj());
+                *bn = f1b.conj() + mul_i(f2b.conj());
+            });
     }
 
+    /// The two inverse FFTs, each face's on its own rayon worker, scaled by 1/N and unpacked
+    /// into f there.
     fn inverse(&mut self, f: &mut FaceFields) {
-        fft_pair(
-            &self.inv,
-            [&mut self.a, &mut self.b],
-            [&mut self.scratch, &mut self.scratch_b],
-        );
+        let plan = &self.inv;
         let scale = 1.0 / self.p.grid_points as f64;
-        for m in 0..self.p.grid_points {
-            f.top_x[m] = self.a[m].re * scale;
-            f.top_y[m] = self.a[m].im * scale;
-            f.bottom_x[m] = self.b[m].re * scale;
-            f.bottom_y[m] = self.b[m].im * scale;
-        }
+        let (a, b) = (&mut self.a, &mut self.b);
+        let (sa, sb) = (&mut self.scratch, &mut self.scratch_b);
+        let FaceFields {
+            top_x,
+            top_y,
+            bottom_x,
+            bottom_y,
+        } = f;
+        rayon::join(
+            || {
+                plan.process_with_scratch(a, sa);
+                unpack(a, scale, top_x, top_y);
+            },
+            || {
+                plan.process_with_scratch(b, sb);
+                unpack(b, scale, bottom_x, bottom_y);
+            },
+        );
     }
+}
+
+/// Modes per rayon task of the split and the assembly (a few µs of work each side).
+const PAR_MODES: usize = 256;
+
+/// z[m] = x[m] + i y[m]: two real fields of a face packed into one complex array.
+fn pack(z: &mut [Complex64], x: &[f64], y: &[f64]) {
+    for ((z, &x), &y) in z.iter_mut().zip(x).zip(y) {
+        *z = Complex64::new(x, y);
+    }
+}
+
+/// x[m] = s Re z[m], y[m] = s Im z[m]: the inverse of [`pack`], scaled.
+fn unpack(z: &[Complex64], scale: f64, x: &mut [f64], y: &mut [f64]) {
+    for ((z, x), y) in z.iter().zip(x.iter_mut()).zip(y.iter_mut()) {
+        *x = z.re * scale;
+        *y = z.im * scale;
+    }
+}
+
+/// The spectra of the four fields at mode j from the packed transforms A = FFT(u_x + i u_y)
+/// of each face, at j (aj, bj) and at N − j (an, bn): Û_x = (A_j + Ā_{N−j})/2,
+/// Û_y = −i (A_j − Ā_{N−j})/2.
+#[inline(always)]
+fn split(aj: Complex64, an: Complex64, bj: Complex64, bn: Complex64) -> Entry {
+    let half_i = Complex64::new(0.0, -0.5);
+    let (an, bn) = (an.conj(), bn.conj());
+    Entry {
+        top_x: 0.5 * (aj + an),
+        top_y: half_i * (aj - an),
+        bottom_x: 0.5 * (bj + bn),
+        bottom_y: half_i * (bj - bn),
+    }
+}
+
+/// F^±_1 and F^±_2 of one mode (§2, the module's formulas), μk and the coupling's factor given
+/// (0 at Nyquist): (F^+_1, F^+_2, F^-_1, F^-_2).
+#[inline(always)]
+fn forces(muk: f64, couple: f64, c: f64, s: &ModeSums, e: &Entry) -> [Complex64; 4] {
+    let f1t = -muk * s.h11_top + mul_i(couple * (c * e.top_y + s.k12_top_y));
+    let f1b = muk * s.h11_bottom + mul_i(couple * (c * e.bottom_y + s.k12_bottom_y));
+    let f2t = -muk * s.h22_top - mul_i(couple * (c * e.top_x + s.k12_top_x));
+    let f2b = muk * s.h22_bottom - mul_i(couple * (c * e.bottom_x + s.k12_bottom_x));
+    [f1t, f2t, f1b, f2b]
 }
 
 /// Flops of one complex FFT of size `n` [-]: 5 n log2 n, the count of a radix-2 transform
@@ -502,15 +573,6 @@ impl Operator {
             }
         }
     }
-}
-
-/// The two packed transforms of a step, one per rayon worker: they are independent, and each
-/// is a few tens of µs, worth splitting on 2 cores once the step already runs on a pool thread.
-fn fft_pair(plan: &Arc<dyn Fft<f64>>, [a, b]: [&mut Vec<Complex64>; 2], [sa, sb]: [&mut Vec<Complex64>; 2]) {
-    rayon::join(
-        || plan.process_with_scratch(a, sa),
-        || plan.process_with_scratch(b, sb),
-    );
 }
 
 /// The history of an [`crate::Operator`], in its shape.
