@@ -39,7 +39,7 @@ pub struct FastConvolution {
     /// States at [j r + p]: real parts then imaginary parts of s_z for the eight real sequences in
     /// the order of [`Lanes`].
     s: Vec<State>,
-    avx2: bool,
+    isa: Isa,
 }
 
 /// The eight real input sequences of a mode, x fields first: (top x re, top x im, bottom x re,
@@ -84,20 +84,56 @@ fn mode_kernel(z: &[Complex64], g: &[[Complex64; 3]], s: &mut [State], u: &Lanes
     (h, k)
 }
 
+/// The instruction set [`mode_kernel`] is compiled for, chosen at run time. Rust never contracts
+/// a multiply and an add into an FMA, so every choice computes the same bits; the wider one does
+/// a pole's eight lanes in one AVX-512 register instead of two AVX2 ones.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Isa {
+    /// x86-64 with AVX-512F.
+    Avx512,
+    /// x86-64 with AVX2 and FMA.
+    Avx2,
+    /// Whatever the build targets.
+    Portable,
+}
+
+impl Isa {
+    /// The widest the CPU reports.
+    fn detect() -> Isa {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                return Isa::Avx512;
+            }
+            if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
+                return Isa::Avx2;
+            }
+        }
+        Isa::Portable
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx2,fma")]
+fn mode_kernel_avx512(z: &[Complex64], g: &[[Complex64; 3]], s: &mut [State], u: &Lanes) -> (Lanes, Lanes) {
+    mode_kernel(z, g, s, u)
+}
+
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 fn mode_kernel_avx2(z: &[Complex64], g: &[[Complex64; 3]], s: &mut [State], u: &Lanes) -> (Lanes, Lanes) {
     mode_kernel(z, g, s, u)
 }
 
-fn dispatch(avx2: bool, z: &[Complex64], g: &[[Complex64; 3]], s: &mut [State], u: &Lanes) -> (Lanes, Lanes) {
-    #[cfg(target_arch = "x86_64")]
-    if avx2 {
-        // SAFETY: `avx2` is true only if the CPU reported AVX2 and FMA at run time (`new`).
-        return unsafe { mode_kernel_avx2(z, g, s, u) };
+fn dispatch(isa: Isa, z: &[Complex64], g: &[[Complex64; 3]], s: &mut [State], u: &Lanes) -> (Lanes, Lanes) {
+    match isa {
+        // SAFETY: `Isa::detect` returned these only if the CPU reported the features at run time.
+        #[cfg(target_arch = "x86_64")]
+        Isa::Avx512 => unsafe { mode_kernel_avx512(z, g, s, u) },
+        #[cfg(target_arch = "x86_64")]
+        Isa::Avx2 => unsafe { mode_kernel_avx2(z, g, s, u) },
+        _ => mode_kernel(z, g, s, u),
     }
-    let _ = avx2;
-    mode_kernel(z, g, s, u)
 }
 
 impl FastConvolution {
@@ -116,16 +152,12 @@ impl FastConvolution {
                 g[j * r + p] = [fit.amps[0][p] * f, fit.amps[1][p] * f, fit.amps[2][p] * f];
             }
         }
-        #[cfg(target_arch = "x86_64")]
-        let avx2 = std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma");
-        #[cfg(not(target_arch = "x86_64"))]
-        let avx2 = false;
         FastConvolution {
             r,
             z,
             g,
             s: vec![State::default(); nm * r],
-            avx2,
+            isa: Isa::detect(),
         }
     }
 
@@ -166,7 +198,7 @@ impl FastConvolution {
             z: _,
             g: _,
             s,
-            avx2: _,
+            isa: _,
         } = self;
         let FastState { states } = saved;
         fill(s, states, "sum-of-exponentials states")
@@ -174,7 +206,7 @@ impl FastConvolution {
 
     /// Pushes Û^n of every mode and writes the eight convolutions per mode into `out`.
     pub fn step(&mut self, spectra: &[Entry], out: &mut [ModeSums]) {
-        let (r, avx2) = (self.r, self.avx2);
+        let (r, isa) = (self.r, self.isa);
         out[0] = ModeSums::default();
         out[1..]
             .par_iter_mut()
@@ -193,7 +225,7 @@ impl FastConvolution {
                     e.bottom_y.re,
                     e.bottom_y.im,
                 ];
-                let (h, k) = dispatch(avx2, z, g, s, &u);
+                let (h, k) = dispatch(isa, z, g, s, &u);
                 let c = |a: &Lanes, lane: usize| Complex64::new(a[lane], a[lane + 1]);
                 *o = ModeSums {
                     h11_top: c(&h, 0),
