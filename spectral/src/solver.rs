@@ -174,17 +174,30 @@ pub(crate) fn step(model: &Model, st: &mut State, ws: &mut Workspace, n: u64) ->
     let t = n as f64 * model.dt;
     let load = far_field(model, t);
     ws.half.step_timed(&st.u, &mut ws.f, &mut ws.clock);
-    let (f, u) = (&ws.f, &st.u);
-    let blown = st
-        .points
-        .par_iter_mut()
-        .enumerate()
-        .with_min_len(512)
-        .filter_map(|(m, p)| solve_point(model, load, m, f, u, p).then_some(m))
-        .min();
+    let blown = solve_law(model, load, &ws.f, &st.u, &mut st.points);
     ws.clock.lap(Phase::Law);
     blown
 }
+
+/// The interface law at every point, [`LAW_CHUNK`] points per rayon task: the first point whose
+/// velocity blew up, if any.
+fn solve_law(
+    model: &Model,
+    load: (f64, f64),
+    f: &FaceFields,
+    u: &FaceFields,
+    points: &mut [Point],
+) -> Option<usize> {
+    points
+        .par_chunks_mut(LAW_CHUNK)
+        .enumerate()
+        .filter_map(|(c, chunk)| solve_points(model, load, c * LAW_CHUNK, f, u, chunk))
+        .min()
+}
+
+/// Grid points per rayon task of the law. Each point's result depends on that point alone, so
+/// the chunking changes no bit of it (pinned by a test).
+const LAW_CHUNK: usize = 512;
 
 /// Flops of the law at one point, on its most common path (intact or cohesive, stuck): the
 /// drive (7 adds), the strength update (damage ratio: 2 divisions, 2 squares, 1 add, 1 square
@@ -221,26 +234,41 @@ pub(crate) fn work(model: &Model, ws: &Workspace) -> StepWork {
     w
 }
 
-/// Interface law at point m (§5.4): the dynamic stresses S^± = T^0 + f^± and the jumps δ^n of
-/// the point, then [`point::step`]. Returns true if the velocity blew up.
-fn solve_point(
+/// Interface law at the points `first..first + points.len()` (§5.4): at each, the dynamic
+/// stresses S^± = T^0 + f^± and the jumps δ^n, then [`point::step`]. Returns the first point
+/// whose velocity blew up, if any.
+fn solve_points(
     model: &Model,
     (sxy, syy): (f64, f64),
-    m: usize,
+    first: usize,
     f: &FaceFields,
     u: &FaceFields,
-    p: &mut Point,
-) -> bool {
-    let t01 = sxy + model.nucleation[m];
-    let drive = Drive {
-        shear: (t01 + f.top_x[m], t01 + f.bottom_x[m]),
-        normal: (syy + f.top_y[m], syy + f.bottom_y[m]),
-        opening: u.top_y[m] - u.bottom_y[m],
-        slip: u.top_x[m] - u.bottom_x[m],
-    };
-    *p = point::step(&model.law, &drive, p);
-    let vmax = p.v.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    vmax.is_nan() || vmax > model.v_limit
+    points: &mut [Point],
+) -> Option<usize> {
+    let r = first..first + points.len();
+    // the inputs as slices of the chunk's length: zipped, the loop checks no index
+    let shear = f.top_x[r.clone()].iter().zip(&f.bottom_x[r.clone()]);
+    let normal = f.top_y[r.clone()].iter().zip(&f.bottom_y[r.clone()]);
+    let opening = u.top_y[r.clone()].iter().zip(&u.bottom_y[r.clone()]);
+    let slip = u.top_x[r.clone()].iter().zip(&u.bottom_x[r.clone()]);
+    let mut blown = None;
+    let inputs = shear.zip(normal).zip(opening.zip(slip)).zip(&model.nucleation[r]);
+    for (i, (p, (((fx, fy), (uy, ux)), &nucleation))) in points.iter_mut().zip(inputs).enumerate() {
+        let t01 = sxy + nucleation;
+        let drive = Drive {
+            shear: (t01 + fx.0, t01 + fx.1),
+            normal: (syy + fy.0, syy + fy.1),
+            opening: uy.0 - uy.1,
+            slip: ux.0 - ux.1,
+        };
+        *p = point::step(&model.law, &drive, p);
+        // written so that NaN fails it (a fold with f64::max would drop a NaN)
+        let finite = p.v.iter().all(|v| v.abs() <= model.v_limit);
+        if !finite && blown.is_none() {
+            blown = Some(first + i);
+        }
+    }
+    blown
 }
 
 /// u^{n+1} = u^n + Δt v^n (§4.2 step 7).
@@ -252,5 +280,91 @@ pub(crate) fn advance(model: &Model, st: &mut State) {
         u.top_y[m] += dt * p.v[1];
         u.bottom_x[m] += dt * p.v[2];
         u.bottom_y[m] += dt * p.v[3];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::law::PointState;
+
+    /// The centre crack's model with a nucleation stress that differs at every point, and face
+    /// fields that differ at every point and drive every branch of the law: stuck, slipping,
+    /// open, in contact; intact, cohesive, broken.
+    fn model_and_fields() -> (Model, Vec<Point>, FaceFields, FaceFields) {
+        let scene = Scene::from_toml_str(include_str!("../../scenes/center-crack.toml")).unwrap();
+        let (mut model, st, _) = build(&scene).unwrap();
+        let n = model.n;
+        model.nucleation = (0..n).map(|m| 20.0 * m as f64).collect();
+        let (mut f, mut u) = (FaceFields::zeros(n), FaceFields::zeros(n));
+        for m in 0..n {
+            let x = m as f64;
+            f.top_x[m] = 0.6e6 * (0.37 * x).sin();
+            f.bottom_x[m] = 0.3e6 * (0.11 * x).cos();
+            f.top_y[m] = 0.5e6 * (0.23 * x).sin();
+            f.bottom_y[m] = -0.4e6 * (0.05 * x).cos();
+            // every fourth point keeps zero jumps (and its strength, if intact)
+            if m % 4 != 0 {
+                u.top_x[m] = 0.6e-4 * (0.013 * x).sin();
+                u.top_y[m] = 0.6e-4 * (0.017 * x).cos();
+            }
+        }
+        (model, st.points, f, u)
+    }
+
+    #[test]
+    fn the_law_in_chunks_is_the_law_in_one_pass_to_the_bit() {
+        let (model, points, f, u) = model_and_fields();
+        assert!(model.n >= 4 * LAW_CHUNK, "several chunks");
+        let load = (0.1e6, -0.05e6);
+        let mut serial = points.clone();
+        assert_eq!(solve_points(&model, load, 0, &f, &u, &mut serial), None);
+        let mut chunked = points;
+        assert_eq!(solve_law(&model, load, &f, &u, &mut chunked), None);
+        // every branch taken, so that equality is not that of a uniform interface
+        let states = |s: PointState| serial.iter().filter(|p| p.strength.state == s).count();
+        for s in [
+            PointState::Intact,
+            PointState::Cohesive,
+            PointState::Broken,
+            PointState::Contact,
+        ] {
+            assert!(states(s) > 0, "{s:?}");
+        }
+        assert!(serial.iter().any(|p| p.slipping) && serial.iter().any(|p| !p.slipping));
+        for (m, (a, b)) in serial.iter().zip(&chunked).enumerate() {
+            let bits = |p: &Point| {
+                let v = [
+                    p.strength.sigma,
+                    p.strength.tau,
+                    p.reg_normal,
+                    p.traction[0],
+                    p.traction[1],
+                ];
+                (
+                    v.map(f64::to_bits),
+                    p.v.map(f64::to_bits),
+                    p.strength.state,
+                    p.slipping,
+                )
+            };
+            assert_eq!(bits(a), bits(b), "point {m}");
+            assert_eq!(a, b, "point {m}");
+        }
+    }
+
+    /// The first point that blows up is reported by its index on the interface, whichever chunk
+    /// holds it and whatever the later chunks hold.
+    #[test]
+    fn the_first_blown_point_is_found_across_chunks() {
+        let (model, points, mut f, u) = model_and_fields();
+        let (late, early) = (3 * LAW_CHUNK + 7, LAW_CHUNK + 5);
+        f.top_x[late] = f64::NAN;
+        f.bottom_y[early] = 1e30;
+        let mut p = points.clone();
+        assert_eq!(solve_law(&model, (0.0, 0.0), &f, &u, &mut p), Some(early));
+        f.bottom_y[early] = 0.0;
+        let mut p = points;
+        assert_eq!(solve_law(&model, (0.0, 0.0), &f, &u, &mut p), Some(late));
     }
 }
