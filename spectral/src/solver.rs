@@ -261,7 +261,23 @@ fn solve_points(
             opening: uy.0 - uy.1,
             slip: ux.0 - ux.1,
         };
-        *p = point::step(&model.law, &drive, p);
+        // stored field by field: `*p = step(..)` copies the strength's padding bytes along,
+        // through overlapping 4-byte moves that stall store forwarding at every point
+        let Point {
+            strength: Strength { sigma, tau, state },
+            reg_normal,
+            in_contact,
+            slipping,
+            friction_on,
+            traction,
+            v,
+        } = point::step(&model.law, &drive, p);
+        p.strength.sigma = sigma;
+        p.strength.tau = tau;
+        p.strength.state = state;
+        (p.reg_normal, p.in_contact, p.slipping, p.friction_on) =
+            (reg_normal, in_contact, slipping, friction_on);
+        (p.traction, p.v) = (traction, v);
         // written so that NaN fails it (a fold with f64::max would drop a NaN)
         let finite = p.v.iter().all(|v| v.abs() <= model.v_limit);
         if !finite && blown.is_none() {
