@@ -3,6 +3,7 @@
 //! force scatter with w = ½.
 
 use nalgebra::Vector2;
+use rayon::prelude::*;
 
 use super::geometry::{Projection, SegmentFrame, point_at, segment_frame, shape};
 use crate::law::friction::{Friction, FrictionInput, FrictionStep, regularized_normal, return_map};
@@ -28,10 +29,16 @@ pub(crate) fn node_geometry(
         area_sum[i as usize] = Vector2::zeros();
         normal_sum[i as usize] = Vector2::zeros();
     }
-    frames.clear(); // keeps the capacity: no allocation within `max_segments`
-    for &[j1, j2] in segments {
-        let frame = segment_frame(x[j1 as usize], x[j2 as usize]);
-        frames.push(frame);
+    // The frames (a square root and a division each) in parallel, one slot per segment; the
+    // nodal sums below stay serial, in segment order, so their bits do not depend on the threads.
+    // Chunks of at least 1024 segments: a short interface runs in one piece. `collect_into_vec`
+    // keeps the capacity: no allocation within `max_segments`.
+    segments
+        .par_iter()
+        .with_min_len(1024)
+        .map(|&[j1, j2]| segment_frame(x[j1 as usize], x[j2 as usize]))
+        .collect_into_vec(frames);
+    for (&[j1, j2], frame) in segments.iter().zip(frames.iter()) {
         let Some(frame) = frame else {
             continue;
         };

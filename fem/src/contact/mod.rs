@@ -264,7 +264,8 @@ pub(crate) fn resolve(
         &mut ws.frames,
         (&mut ws.area_sum, &mut ws.normal),
     );
-    ws.grid.rebuild(segments, x, p.max_gap, p.projection_tolerance);
+    ws.grid
+        .update(segments, nodes, x, p.max_gap, p.projection_tolerance);
     let law = Friction {
         eps_t: p.eps_t,
         friction_coeff: p.friction_coeff,

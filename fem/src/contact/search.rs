@@ -3,6 +3,7 @@
 //! paper's exclusion rules and the smallest-|g| choice (docs/fem-model.md §10.8).
 
 use nalgebra::Vector2;
+use rayon::prelude::*;
 
 use super::geometry::{Projection, SegmentFrame, project_on_frame};
 
@@ -42,7 +43,22 @@ pub(crate) struct BucketGrid {
     num_entries: usize,
     /// Cell budget: `cell_start.len() − 1`.
     max_cells: usize,
+    /// Cells overlapped by each segment's inflated box, (i0, j0, i1, j1), of the last rebuild.
+    ranges: Vec<[u32; 4]>,
+    /// Skin s [m] the last rebuild added to the margin ([`BucketGrid::update`]; 0 after
+    /// [`BucketGrid::rebuild`]).
+    skin: f64,
+    /// Positions [m] of the nodes of Γ_det at the last rebuild by `update`, in the order of its
+    /// node list (empty after `rebuild`: the next `update` rebuilds).
+    anchor: Vec<Vector2<f64>>,
+    /// Number of segments at the last rebuild.
+    built_segments: usize,
 }
+
+/// Skin of a kept grid, as a fraction of the search margin m [-]: the cells grow by 2 s = 0.2 m,
+/// and the grid is kept until a node of Γ_det has moved 0.9 s (about 0.1 h at the default
+/// d_max = h).
+const SKIN: f64 = 0.1;
 
 /// Bounding box of one segment, inflated by the search margin [m].
 fn inflated_box(a: Vector2<f64>, b: Vector2<f64>, margin: f64) -> (Vector2<f64>, Vector2<f64>) {
@@ -65,18 +81,83 @@ impl BucketGrid {
             entries: vec![0; 4 * max_segments.max(1)],
             num_entries: 0,
             max_cells,
+            ranges: Vec::with_capacity(max_segments),
+            skin: 0.0,
+            anchor: Vec::with_capacity(2 * max_segments.max(1)),
+            built_segments: usize::MAX,
         }
     }
 
-    /// Rebuilds the grid for `segments` at positions `x`. `max_gap` is d_max [m];
+    /// The grid for `segments` at positions `x`, whose nodes are `nodes` (each once): the grid of
+    /// an earlier step is kept while it still lists every candidate the narrow phase can accept,
+    /// else it is rebuilt with a skin s = 0.1 m added to the margin m (a Verlet skin). Returns
+    /// whether it was rebuilt.
+    ///
+    /// A kept grid is exact: every node of Γ_det has moved by at most d (in each coordinate)
+    /// since the rebuild, so a segment's box inflated by the current margin lies inside its box
+    /// at the rebuild inflated by m + d + √2 ε_ext d (the ends move by d, the length by at most
+    /// 2√2 d), which the grid holds while d (1 + 1.5 ε_ext) ≤ s; a slave inside the current box
+    /// is in a cell that lists the segment. The narrow phase then finds the same closest master
+    /// as on a fresh grid: the candidates it rejects only add work. The grid is rebuilt once d
+    /// reaches 0.9 s (floating-point slack), when segments were added, or when a position is
+    /// not finite.
+    pub(crate) fn update(
+        &mut self,
+        segments: &[[u32; 2]],
+        nodes: &[u32],
+        x: &[Vector2<f64>],
+        max_gap: f64,
+        projection_tolerance: f64,
+    ) -> bool {
+        let comparable =
+            self.nx > 0 && segments.len() == self.built_segments && nodes.len() == self.anchor.len();
+        if comparable {
+            // the largest move, exact in any order (a NaN counts as infinite)
+            let moved = nodes
+                .par_iter()
+                .zip(self.anchor.par_iter())
+                .with_min_len(1024)
+                .map(|(&i, a)| {
+                    let d = x[i as usize] - a;
+                    let m = d.x.abs().max(d.y.abs());
+                    if m.is_nan() { f64::INFINITY } else { m }
+                })
+                .reduce(|| 0.0, f64::max);
+            if moved * (1.0 + 1.5 * projection_tolerance) <= 0.9 * self.skin {
+                return false;
+            }
+        }
+        self.build(segments, x, max_gap, projection_tolerance, SKIN);
+        self.anchor.clear(); // keeps the capacity
+        self.anchor.extend(nodes.iter().map(|&i| x[i as usize]));
+        self.built_segments = segments.len();
+        true
+    }
+
+    /// Rebuilds the grid for `segments` at positions `x`, without skin. `max_gap` is d_max [m];
     /// `projection_tolerance` is ε_ext [-]: the margin m = d_max + ε_ext L_max / 2 covers every
     /// node that can pass the narrow phase. Cell size c ≥ L_max + 2m (≥ L_max + d_max, §5.1).
+    #[cfg(test)]
     pub(crate) fn rebuild(
         &mut self,
         segments: &[[u32; 2]],
         x: &[Vector2<f64>],
         max_gap: f64,
         projection_tolerance: f64,
+    ) {
+        self.build(segments, x, max_gap, projection_tolerance, 0.0);
+        self.anchor.clear();
+        self.built_segments = usize::MAX;
+    }
+
+    /// The rebuild, with the margin m (1 + `skin`) [m].
+    fn build(
+        &mut self,
+        segments: &[[u32; 2]],
+        x: &[Vector2<f64>],
+        max_gap: f64,
+        projection_tolerance: f64,
+        skin: f64,
     ) {
         self.num_entries = 0;
         self.nx = 0;
@@ -91,15 +172,27 @@ impl BucketGrid {
             self.entries.resize(4 * segments.len(), 0);
             self.cell_start.resize(self.max_cells + 1, 0);
         }
-        let (mut lo, mut hi) = (Vector2::repeat(f64::MAX), Vector2::repeat(f64::MIN));
-        let mut l_max: f64 = 0.0;
-        for s in segments {
-            let (a, b) = (x[s[0] as usize], x[s[1] as usize]);
-            lo = lo.inf(&a.inf(&b));
-            hi = hi.sup(&a.sup(&b));
-            l_max = l_max.max((b - a).norm());
-        }
-        let margin = max_gap + 0.5 * projection_tolerance * l_max;
+        // Bounds and longest segment: minima and maxima are exact in any order, so the
+        // reduction runs in parallel (chunks of at least 1024 segments) and its result does not
+        // depend on the threads.
+        let empty = (Vector2::repeat(f64::MAX), Vector2::repeat(f64::MIN), 0.0_f64);
+        let (mut lo, mut hi, l_max) = segments
+            .par_iter()
+            .with_min_len(1024)
+            .fold(
+                || empty,
+                |(lo, hi, l_max), s| {
+                    let (a, b) = (x[s[0] as usize], x[s[1] as usize]);
+                    (lo.inf(&a.inf(&b)), hi.sup(&a.sup(&b)), l_max.max((b - a).norm()))
+                },
+            )
+            .reduce(
+                || empty,
+                |(lo1, hi1, l1), (lo2, hi2, l2)| (lo1.inf(&lo2), hi1.sup(&hi2), l1.max(l2)),
+            );
+        let bare = max_gap + 0.5 * projection_tolerance * l_max;
+        self.skin = skin * bare;
+        let margin = bare + self.skin;
         let finite = lo.iter().chain(hi.iter()).all(|v| v.is_finite()) && margin.is_finite();
         if !finite {
             return;
@@ -124,34 +217,43 @@ impl BucketGrid {
         self.fill(segments, x, margin);
     }
 
-    /// Counting sort of the segments into their cells: count, prefix sum, scatter.
+    /// Counting sort of the segments into their cells: each segment's cell range (in parallel,
+    /// one slot per segment), then count, prefix sum and scatter in segment order, so every cell
+    /// lists its segments in increasing index whatever the threads.
     fn fill(&mut self, segments: &[[u32; 2]], x: &[Vector2<f64>], margin: f64) {
         let num_cells = self.nx * self.ny;
+        let mut ranges = std::mem::take(&mut self.ranges);
+        let grid = &*self;
+        segments
+            .par_iter()
+            .with_min_len(1024)
+            .map(|s| {
+                let (lo, hi) = inflated_box(x[s[0] as usize], x[s[1] as usize], margin);
+                [grid.ix(lo.x), grid.iy(lo.y), grid.ix(hi.x), grid.iy(hi.y)].map(|k| k as u32)
+            })
+            .collect_into_vec(&mut ranges);
+        self.ranges = ranges;
+        let nx = self.nx;
+        let cells = |[i0, j0, i1, j1]: [u32; 4]| {
+            (j0 as usize..=j1 as usize)
+                .flat_map(move |j| (i0 as usize..=i1 as usize).map(move |i| j * nx + i))
+        };
         let counts = &mut self.cell_start[..=num_cells];
         counts.fill(0);
-        for s in segments {
-            let (lo, hi) = inflated_box(x[s[0] as usize], x[s[1] as usize], margin);
-            let (i0, j0, i1, j1) = (self.ix(lo.x), self.iy(lo.y), self.ix(hi.x), self.iy(hi.y));
-            for j in j0..=j1 {
-                for i in i0..=i1 {
-                    self.cell_start[j * self.nx + i + 1] += 1;
-                }
+        for &r in &self.ranges {
+            for k in cells(r) {
+                counts[k + 1] += 1;
             }
         }
         for k in 0..num_cells {
-            self.cell_start[k + 1] += self.cell_start[k];
+            counts[k + 1] += counts[k];
         }
-        self.num_entries = self.cell_start[num_cells] as usize;
+        self.num_entries = counts[num_cells] as usize;
         // Scatter: `cell_start[k]` is used as the running cursor of cell k and restored after.
-        for (index, s) in segments.iter().enumerate() {
-            let (lo, hi) = inflated_box(x[s[0] as usize], x[s[1] as usize], margin);
-            let (i0, j0, i1, j1) = (self.ix(lo.x), self.iy(lo.y), self.ix(hi.x), self.iy(hi.y));
-            for j in j0..=j1 {
-                for i in i0..=i1 {
-                    let k = j * self.nx + i;
-                    self.entries[self.cell_start[k] as usize] = index as u32;
-                    self.cell_start[k] += 1;
-                }
+        for (index, &r) in self.ranges.iter().enumerate() {
+            for k in cells(r) {
+                self.entries[self.cell_start[k] as usize] = index as u32;
+                self.cell_start[k] += 1;
             }
         }
         for k in (1..=num_cells).rev() {
@@ -255,19 +357,26 @@ pub(crate) fn closest_master_or_depth(
     let x_i = x[slave.node as usize];
     let mut best: Option<(u32, Projection)> = None;
     let mut too_deep = false;
+    let tied = slave.tied.iter().any(|&t| t != u32::MAX);
     for &e in grid.candidates(x_i) {
-        let [j1, j2] = segments[e as usize];
-        let attached = j1 == slave.node || j2 == slave.node;
-        let twin = slave.tied.contains(&j1) || slave.tied.contains(&j2);
+        // Every test before the depth check only rejects, so their order does not change the
+        // result; the cheapest come first. Not facing rejects the slave's own face (about half
+        // of the candidates on an interface) from the frame alone, before any node is read.
         let Some(frame) = &frames[e as usize] else {
             continue;
         };
+        if slave.normal.dot(&frame.normal) >= -FACING_COS {
+            continue;
+        }
+        let [j1, j2] = segments[e as usize];
+        let attached = j1 == slave.node || j2 == slave.node;
+        let twin = tied && (slave.tied.contains(&j1) || slave.tied.contains(&j2));
         if attached || twin {
             continue;
         }
-        // Cheap rejections first: separated or not facing; then too deep (counted).
+        // separated; then too deep (counted)
         let gap = (x_i - x[j1 as usize]).dot(&frame.normal);
-        if gap >= 0.0 || slave.normal.dot(&frame.normal) >= -FACING_COS {
+        if gap >= 0.0 {
             continue;
         }
         let p = project_on_frame(x_i, x[j1 as usize], frame);
