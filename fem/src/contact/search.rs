@@ -98,7 +98,10 @@ impl BucketGrid {
     /// at the rebuild inflated by m + d + √2 ε_ext d (the ends move by d, the length by at most
     /// 2√2 d), which the grid holds while d (1 + 1.5 ε_ext) ≤ s; a slave inside the current box
     /// is in a cell that lists the segment. The narrow phase then finds the same closest master
-    /// as on a fresh grid: the candidates it rejects only add work. The grid is rebuilt once d
+    /// as on a fresh grid: the candidates it rejects only add work. (Whether a slave counts as
+    /// lost to the detection distance depends, on any grid, on which cells list a master deeper
+    /// than d_max, outside the box: a kept grid may count such a slave where a fresh one would
+    /// not. It never changes a force.) The grid is rebuilt once d
     /// reaches 0.9 s (floating-point slack), when segments were added, or when a position is
     /// not finite.
     pub(crate) fn update(

@@ -442,6 +442,16 @@ impl State {
     pub fn displacements(&self) -> &[Vector2<f64>] {
         &self.u
     }
+
+    /// The contact nodes (N_det, the nodes of Γ_det, paper eq. 10) and how many of them had a
+    /// contact element in the last step [-]; (0, 0) without contact.
+    pub fn contact_nodes(&self) -> (usize, usize) {
+        self.contact.as_ref().map_or((0, 0), |c| {
+            let nodes = c.surface.nodes();
+            let touching = nodes.iter().filter(|&&i| c.state.in_contact[i as usize]).count();
+            (nodes.len(), touching)
+        })
+    }
 }
 
 impl Workspace {
