@@ -287,16 +287,36 @@ fn solve_points(
     blown
 }
 
-/// u^{n+1} = u^n + Δt v^n (§4.2 step 7).
+/// u^{n+1} = u^n + Δt v^n (§4.2 step 7), [`LAW_CHUNK`] points per rayon task.
 pub(crate) fn advance(model: &Model, st: &mut State) {
     let dt = model.dt;
-    let u = &mut st.u;
-    for (m, p) in st.points.iter().enumerate() {
-        u.top_x[m] += dt * p.v[0];
-        u.top_y[m] += dt * p.v[1];
-        u.bottom_x[m] += dt * p.v[2];
-        u.bottom_y[m] += dt * p.v[3];
-    }
+    let FaceFields {
+        top_x,
+        top_y,
+        bottom_x,
+        bottom_y,
+    } = &mut st.u;
+    let top = top_x
+        .par_chunks_mut(LAW_CHUNK)
+        .zip(top_y.par_chunks_mut(LAW_CHUNK));
+    let bottom = bottom_x
+        .par_chunks_mut(LAW_CHUNK)
+        .zip(bottom_y.par_chunks_mut(LAW_CHUNK));
+    st.points
+        .par_chunks(LAW_CHUNK)
+        .zip(top.zip(bottom))
+        .for_each(|(points, ((tx, ty), (bx, by)))| {
+            let u = tx
+                .iter_mut()
+                .zip(ty.iter_mut())
+                .zip(bx.iter_mut().zip(by.iter_mut()));
+            for (p, ((tx, ty), (bx, by))) in points.iter().zip(u) {
+                *tx += dt * p.v[0];
+                *ty += dt * p.v[1];
+                *bx += dt * p.v[2];
+                *by += dt * p.v[3];
+            }
+        });
 }
 
 #[cfg(test)]
