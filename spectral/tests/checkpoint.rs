@@ -236,12 +236,14 @@ fn csv_in(dir: &Path) -> Vec<(String, Vec<u8>)> {
     files
 }
 
-/// The whole `tiny-spectral-andrews` scene with friction (about 2 s of a release build on 2
-/// cores), its text.
+/// The `tiny-spectral-andrews` scene with friction, run four times as long (360 s of model time:
+/// about 1.2 s of a release build on 2 cores of an AMD EPYC with AVX-512, long enough to be
+/// killed after its first checkpoint), its text.
 fn long_scene() -> String {
     preflight::testing::scene_text(env!("CARGO_MANIFEST_DIR"), "tiny-spectral-andrews")
         .replace("friction_coeff = 0.0 ", "friction_coeff = 0.1 ")
         .replace("t_star = 0.0 ", "t_star = 0.5 ")
+        .replace("duration = 90.0 ", "duration = 360.0 ")
 }
 
 /// A run killed outright (SIGKILL: no last checkpoint) after its first periodic checkpoint, then
