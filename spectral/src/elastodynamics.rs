@@ -224,32 +224,18 @@ impl HalfSpaces {
 
     /// As [`step`](HalfSpaces::step), booking a lap to `clock` after each phase: forward FFT,
     /// convolution, inverse FFT (with the assembly of F^±).
-    ///
-    /// The fast path splits the spectra, runs the recursion and assembles F^± of a mode in one
-    /// parallel pass over the modes ([`convolve_packed`]), so its split and assembly are booked
-    /// to the convolution.
     pub fn step_timed(&mut self, u: &FaceFields, f: &mut FaceFields, clock: &mut Clock) {
-        self.transform(u);
+        self.forward(u);
+        clock.lap(Phase::ForwardFft);
         match &mut self.path {
             Path::Direct { history, weights } => {
-                split_spectra(&self.a, &self.b, &mut self.spectra);
-                clock.lap(Phase::ForwardFft);
                 history.push(&self.spectra);
                 convolution::convolve(history, weights, &mut self.sums);
-                clock.lap(Phase::Convolution);
-                self.assemble();
             }
-            Path::Fast(fast) => {
-                clock.lap(Phase::ForwardFft);
-                let coupling = Coupling {
-                    shear_modulus: self.p.shear_modulus,
-                    c: 2.0 - self.p.eta,
-                    k: &self.modes.k,
-                };
-                convolve_packed(fast, &mut self.a, &mut self.b, &coupling);
-                clock.lap(Phase::Convolution);
-            }
+            Path::Fast(fast) => fast.step(&self.spectra, &mut self.sums),
         }
+        clock.lap(Phase::Convolution);
+        self.assemble();
         self.inverse(f);
         clock.lap(Phase::InverseFft);
     }
@@ -265,10 +251,6 @@ impl HalfSpaces {
     /// - inverse: the sums, spectra and k read per mode and F^± assembled (49 flops a mode;
     ///   both halves of the two arrays written, 64 B); two FFTs; both arrays read, scaled by
     ///   1/N and unpacked into f (4 N flops, 32 N B each way).
-    ///
-    /// The fast path splits and assembles in its pass over the modes, so the convolution
-    /// phase holds the split's and the assembly's flops of modes j ≥ 1, both packed arrays read
-    /// and written once and k read, and no spectra or sums are streamed.
     pub fn work(&self) -> StepWork {
         let n = self.p.grid_points as f64;
         let modes = (self.p.grid_points / 2 + 1) as f64;
@@ -285,47 +267,41 @@ impl HalfSpaces {
             read: 4.0 * n * 8.0,
             written: 2.0 * n * complex,
         };
+        let mut w = StepWork::default();
+        w.add(
+            Phase::ForwardFft,
+            pack + ffts
+                + Work {
+                    flops: modes * SPLIT_FLOPS_PER_MODE,
+                    read: 2.0 * n * complex,
+                    written: modes * entry,
+                },
+        );
+        w.add(
+            Phase::Convolution,
+            match &self.path {
+                Path::Direct { weights, .. } => weights.work(),
+                Path::Fast(fast) => fast.work(),
+            },
+        );
         let unpack = Work {
             flops: 4.0 * n,
             read: pack.written,
             written: pack.read,
         };
-        let mut w = StepWork::default();
-        match &self.path {
-            Path::Direct { weights, .. } => {
-                let split = Work {
-                    flops: modes * SPLIT_FLOPS_PER_MODE,
-                    read: 2.0 * n * complex,
-                    written: modes * entry,
-                };
-                let assemble = Work {
-                    flops: (modes - 1.0) * ASSEMBLE_FLOPS_PER_MODE,
-                    read: modes * (std::mem::size_of::<ModeSums>() as f64 + entry + 8.0),
-                    written: 2.0 * n * complex,
-                };
-                w.add(Phase::ForwardFft, pack + ffts + split);
-                w.add(Phase::Convolution, weights.work());
-                w.add(Phase::InverseFft, assemble + ffts + unpack);
-            }
-            Path::Fast(fast) => {
-                // one pass over modes j ≥ 1 (`convolve_packed`): both packed arrays read and
-                // written in place, k read; the spectra and sums of a mode stay in registers
-                let pass = Work {
-                    flops: (modes - 1.0) * (SPLIT_FLOPS_PER_MODE + ASSEMBLE_FLOPS_PER_MODE),
-                    read: 2.0 * n * complex + (modes - 1.0) * 8.0,
-                    written: 2.0 * n * complex,
-                };
-                w.add(Phase::ForwardFft, pack + ffts);
-                w.add(Phase::Convolution, pass + fast.work());
-                w.add(Phase::InverseFft, ffts + unpack);
-            }
-        }
+        let assemble = Work {
+            flops: (modes - 1.0) * ASSEMBLE_FLOPS_PER_MODE,
+            read: modes * (std::mem::size_of::<ModeSums>() as f64 + entry + 8.0),
+            written: 2.0 * n * complex,
+        };
+        w.add(Phase::InverseFft, assemble + ffts + unpack);
         w
     }
 
-    /// Two complex FFTs of the packed real fields, each face packed and transformed on its own
-    /// rayon worker.
-    fn transform(&mut self, u: &FaceFields) {
+    /// Two complex FFTs of the packed real fields; spectra j = 0..=N/2 of the four fields. Each
+    /// face is packed and transformed on its own rayon worker, then the modes are split in
+    /// parallel: every value is computed as by a serial loop, whatever the thread count.
+    fn forward(&mut self, u: &FaceFields) {
         let plan = &self.fwd;
         let (a, b) = (&mut self.a, &mut self.b);
         let (sa, sb) = (&mut self.scratch, &mut self.scratch_b);
@@ -339,6 +315,16 @@ impl HalfSpaces {
                 plan.process_with_scratch(b, sb);
             },
         );
+        let (a, b) = (&self.a[..], &self.b[..]);
+        let half = a.len() / 2;
+        self.spectra[0] = split(a[0], a[0], b[0], b[0]);
+        // mode j pairs a[j] with a[N − j]: a[1..=N/2] against a[N/2..N] read backwards
+        self.spectra[1..]
+            .par_iter_mut()
+            .zip(a[1..=half].par_iter().zip(a[half..].par_iter().rev()))
+            .zip(b[1..=half].par_iter().zip(b[half..].par_iter().rev()))
+            .with_min_len(PAR_MODES)
+            .for_each(|((e, (&aj, &an)), (&bj, &bn))| *e = split(aj, an, bj, bn));
     }
 
     /// F^±(k_j) from the convolutions and the instantaneous (2−η) coupling, packed for the
@@ -403,68 +389,6 @@ impl HalfSpaces {
 
 /// Modes per rayon task of the split and the assembly (a few µs of work each side).
 const PAR_MODES: usize = 256;
-
-/// The spectra j = 0..=N/2 of the four fields from the two packed transforms, modes in
-/// parallel: every value is computed as by a serial loop, whatever the thread count.
-fn split_spectra(a: &[Complex64], b: &[Complex64], spectra: &mut [Entry]) {
-    let half = a.len() / 2;
-    spectra[0] = split(a[0], a[0], b[0], b[0]);
-    // mode j pairs a[j] with a[N − j]: a[1..=N/2] against a[N/2..N] read backwards
-    spectra[1..]
-        .par_iter_mut()
-        .zip(a[1..=half].par_iter().zip(a[half..].par_iter().rev()))
-        .zip(b[1..=half].par_iter().zip(b[half..].par_iter().rev()))
-        .with_min_len(PAR_MODES)
-        .for_each(|((e, (&aj, &an)), (&bj, &bn))| *e = split(aj, an, bj, bn));
-}
-
-/// What the assembly of F^± needs besides the convolutions (§2).
-struct Coupling<'a> {
-    /// μ [Pa].
-    shear_modulus: f64,
-    /// 2 − η [-].
-    c: f64,
-    /// Wave numbers k_j, j = 0..=N/2 [1/m].
-    k: &'a [f64],
-}
-
-/// The fast path's modes in one parallel pass (§4.2 steps 2–4 between the FFTs): for each mode
-/// j ≥ 1, its spectra split from the packed transforms a and b at j and N − j, the recursion
-/// pushed, and F^± assembled back into a and b at j and N − j, the same slots. The operations
-/// of each value are those of [`split_spectra`], of the recursion of the direct path's place
-/// ([`ModeRecursion::push`](crate::fast::ModeRecursion::push)) and of [`HalfSpaces::assemble`]:
-/// the bits of three separate passes, without the spectra and sums streamed in between.
-fn convolve_packed(fast: &mut FastConvolution, a: &mut [Complex64], b: &mut [Complex64], cp: &Coupling<'_>) {
-    let half = a.len() / 2;
-    let (mu, c) = (cp.shear_modulus, cp.c);
-    let (a_low, a_high) = a.split_at_mut(half + 1);
-    let (b_low, b_high) = b.split_at_mut(half + 1);
-    a_low[0] = Complex64::default();
-    b_low[0] = Complex64::default();
-    // Nyquist mode: paired with itself, no coupling, no conjugate half
-    let e = split(a_low[half], a_low[half], b_low[half], b_low[half]);
-    let s = fast.mode(half).push(&e);
-    let [f1t, f2t, f1b, f2b] = forces(mu * cp.k[half], 0.0, c, &s, &e);
-    a_low[half] = f1t + mul_i(f2t);
-    b_low[half] = f1b + mul_i(f2b);
-    // j = 1..N/2: a[j] in a_low, a[N − j] in a_high read backwards
-    a_low[1..half]
-        .par_iter_mut()
-        .zip(a_high.par_iter_mut().rev())
-        .zip(b_low[1..half].par_iter_mut().zip(b_high.par_iter_mut().rev()))
-        .zip(fast.modes(1..half).zip(cp.k[1..half].par_iter()))
-        .with_min_len(128)
-        .for_each(|(((aj, an), (bj, bn)), (mode, &kj))| {
-            let e = split(*aj, *an, *bj, *bn);
-            let s = mode.push(&e);
-            let muk = mu * kj;
-            let [f1t, f2t, f1b, f2b] = forces(muk, muk, c, &s, &e);
-            *aj = f1t + mul_i(f2t);
-            *bj = f1b + mul_i(f2b);
-            *an = f1t.conj() + mul_i(f2t.conj());
-            *bn = f1b.conj() + mul_i(f2b.conj());
-        });
-}
 
 /// z[m] = x[m] + i y[m]: two real fields of a face packed into one complex array.
 fn pack(z: &mut [Complex64], x: &[f64], y: &[f64]) {

@@ -14,7 +14,6 @@
 //! to the fit tolerance.
 
 use std::borrow::Cow;
-use std::ops::Range;
 
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
@@ -167,10 +166,9 @@ impl FastConvolution {
         self.z.len() * 16 + self.g.len() * 48 + self.s.len() * std::mem::size_of::<State>()
     }
 
-    /// Work of one step of the recursion (docs/spectral-model.md §4.3): per pole of each mode
-    /// j ≥ 1, z and the three g read, the state read and written back, and [`FLOPS_PER_POLE`]
-    /// flops. A mode's spectra and sums stay in registers ([`ModeRecursion::push`], inside the
-    /// operator's pass over the modes, which counts the arrays it reads and writes). Mode 0's
+    /// Work of one [`step`](FastConvolution::step) (docs/spectral-model.md §4.3): per mode
+    /// j ≥ 1, its spectra Û read and its eight sums written; per pole of the mode, z and the
+    /// three g read, the state read and written back, and [`FLOPS_PER_POLE`] flops. Mode 0's
     /// coefficients and states, which [`bytes`](FastConvolution::bytes) counts, are not touched.
     pub fn work(&self) -> Work {
         let modes = (self.s.len() / self.r.max(1)).saturating_sub(1) as f64;
@@ -178,8 +176,8 @@ impl FastConvolution {
         let state = std::mem::size_of::<State>() as f64;
         Work {
             flops: poles * FLOPS_PER_POLE,
-            read: poles * (16.0 + 48.0 + state),
-            written: poles * state,
+            read: modes * std::mem::size_of::<Entry>() as f64 + poles * (16.0 + 48.0 + state),
+            written: modes * std::mem::size_of::<ModeSums>() as f64 + poles * state,
         }
     }
 
@@ -206,66 +204,40 @@ impl FastConvolution {
         fill(s, states, "sum-of-exponentials states")
     }
 
-    /// The recursion of mode j ≥ 1 alone.
-    pub(crate) fn mode(&mut self, j: usize) -> ModeRecursion<'_> {
-        let span = j * self.r..(j + 1) * self.r;
-        ModeRecursion {
-            z: &self.z[span.clone()],
-            g: &self.g[span.clone()],
-            s: &mut self.s[span],
-            isa: self.isa,
-        }
-    }
-
-    /// The recursions of the modes `js` (j ≥ 1), in order, as a parallel iterator.
-    pub(crate) fn modes(
-        &mut self,
-        js: Range<usize>,
-    ) -> impl IndexedParallelIterator<Item = ModeRecursion<'_>> {
+    /// Pushes Û^n of every mode and writes the eight convolutions per mode into `out`.
+    pub fn step(&mut self, spectra: &[Entry], out: &mut [ModeSums]) {
         let (r, isa) = (self.r, self.isa);
-        let span = js.start * r..js.end * r;
-        self.s[span.clone()]
-            .par_chunks_mut(r)
-            .zip(self.z[span.clone()].par_chunks(r))
-            .zip(self.g[span].par_chunks(r))
-            .map(move |((s, z), g)| ModeRecursion { z, g, s, isa })
-    }
-}
-
-/// One mode's coefficients and states, borrowed for one step.
-pub(crate) struct ModeRecursion<'a> {
-    z: &'a [Complex64],
-    g: &'a [[Complex64; 3]],
-    s: &'a mut [State],
-    isa: Isa,
-}
-
-impl ModeRecursion<'_> {
-    /// Pushes the mode's Û^n and returns its eight convolutions.
-    #[inline]
-    pub(crate) fn push(self, e: &Entry) -> ModeSums {
-        let u = [
-            e.top_x.re,
-            e.top_x.im,
-            e.bottom_x.re,
-            e.bottom_x.im,
-            e.top_y.re,
-            e.top_y.im,
-            e.bottom_y.re,
-            e.bottom_y.im,
-        ];
-        let (h, k) = dispatch(self.isa, self.z, self.g, self.s, &u);
-        let c = |a: &Lanes, lane: usize| Complex64::new(a[lane], a[lane + 1]);
-        ModeSums {
-            h11_top: c(&h, 0),
-            h11_bottom: c(&h, 2),
-            h22_top: c(&h, 4),
-            h22_bottom: c(&h, 6),
-            k12_top_x: c(&k, 0),
-            k12_bottom_x: c(&k, 2),
-            k12_top_y: c(&k, 4),
-            k12_bottom_y: c(&k, 6),
-        }
+        out[0] = ModeSums::default();
+        out[1..]
+            .par_iter_mut()
+            .zip(self.s[r..].par_chunks_mut(r))
+            .zip(self.z[r..].par_chunks(r).zip(self.g[r..].par_chunks(r)))
+            .zip(spectra[1..].par_iter())
+            .with_min_len(128)
+            .for_each(|(((o, s), (z, g)), e)| {
+                let u = [
+                    e.top_x.re,
+                    e.top_x.im,
+                    e.bottom_x.re,
+                    e.bottom_x.im,
+                    e.top_y.re,
+                    e.top_y.im,
+                    e.bottom_y.re,
+                    e.bottom_y.im,
+                ];
+                let (h, k) = dispatch(isa, z, g, s, &u);
+                let c = |a: &Lanes, lane: usize| Complex64::new(a[lane], a[lane + 1]);
+                *o = ModeSums {
+                    h11_top: c(&h, 0),
+                    h11_bottom: c(&h, 2),
+                    h22_top: c(&h, 4),
+                    h22_bottom: c(&h, 6),
+                    k12_top_x: c(&k, 0),
+                    k12_bottom_x: c(&k, 2),
+                    k12_top_y: c(&k, 4),
+                    k12_bottom_y: c(&k, 6),
+                };
+            });
     }
 }
 
@@ -300,10 +272,10 @@ mod tests {
         // 4 modes × 2 poles × (8 lanes × (4 + 3) state update + 8 lanes × (4 + 4) sums)
         assert_eq!(w.flops, (4 * 2 * (8 * 7 + 8 * 8)) as f64);
         assert_eq!(w.flops, 960.0);
-        // per pole z, g and the state read (a mode's Û and sums stay in registers)
-        assert_eq!(w.read, (4 * 2 * (16 + 48 + 128)) as f64);
-        // per pole the state written back
-        assert_eq!(w.written, (4 * 2 * 128) as f64);
-        assert_eq!(w.bytes(), 2560.0);
+        // per mode Û read (4 complex, 64 B); per pole z, g and the state read
+        assert_eq!(w.read, (4 * 64 + 4 * 2 * (16 + 48 + 128)) as f64);
+        // per mode the 8 complex sums (128 B); per pole the state written back
+        assert_eq!(w.written, (4 * 128 + 4 * 2 * 128) as f64);
+        assert_eq!(w.bytes(), 3328.0);
     }
 }

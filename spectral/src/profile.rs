@@ -15,15 +15,13 @@ use std::time::Instant;
 /// The phases of a step, in their order (docs/spectral-model.md §4.2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Phase {
-    /// Packing of the four face fields into two complex arrays, the two forward FFTs and, on
-    /// the direct path, the split into the spectra Û of the four fields (§4.2 step 2).
+    /// Packing of the four face fields into two complex arrays, the two forward FFTs and the
+    /// split into the spectra Û of the four fields (§4.2 step 2).
     ForwardFft,
-    /// History convolution per mode (§4.2 steps 2–3): the sum-of-exponentials recursion (§4.3)
-    /// with, in the same pass over the modes, the split into spectra before it and the assembly
-    /// of F^± (§2) after it; or the ring-buffer push and the direct sum (§4.1).
+    /// History convolution per mode (§4.2 steps 2–3): the sum-of-exponentials recursion (§4.3),
+    /// or the ring-buffer push and the direct sum (§4.1).
     Convolution,
-    /// The direct path's assembly of F^± (§2), the two inverse FFTs and the unpacking into f^±
-    /// (§4.2 step 4).
+    /// Assembly of F^± (§2), the two inverse FFTs and the unpacking into f^± (§4.2 step 4).
     InverseFft,
     /// Two materials (§2.1): the wait for the bottom half-space's operator, which runs beside
     /// the top one's, and the copy of its face.
