@@ -113,26 +113,77 @@ impl Isa {
     }
 }
 
+/// The modes of one rayon task: for each, its eight input lanes from Û, [`mode_kernel`] over its
+/// `r` poles, and its eight sums. Inlined into each instruction-set build whole, so the kernel's
+/// results go to the sums in registers (a call returned them through memory, read back in
+/// narrower pieces: a store-forwarding stall a mode).
+#[inline(always)]
+fn modes_kernel(
+    r: usize,
+    z: &[Complex64],
+    g: &[[Complex64; 3]],
+    s: &mut [State],
+    spectra: &[Entry],
+    out: &mut [ModeSums],
+) {
+    let coefficients = z.chunks(r).zip(g.chunks(r));
+    for (((o, e), s), (z, g)) in out.iter_mut().zip(spectra).zip(s.chunks_mut(r)).zip(coefficients) {
+        let u = [
+            e.top_x.re,
+            e.top_x.im,
+            e.bottom_x.re,
+            e.bottom_x.im,
+            e.top_y.re,
+            e.top_y.im,
+            e.bottom_y.re,
+            e.bottom_y.im,
+        ];
+        let (h, k) = mode_kernel(z, g, s, &u);
+        let c = |a: &Lanes, lane: usize| Complex64::new(a[lane], a[lane + 1]);
+        *o = ModeSums {
+            h11_top: c(&h, 0),
+            h11_bottom: c(&h, 2),
+            h22_top: c(&h, 4),
+            h22_bottom: c(&h, 6),
+            k12_top_x: c(&k, 0),
+            k12_bottom_x: c(&k, 2),
+            k12_top_y: c(&k, 4),
+            k12_bottom_y: c(&k, 6),
+        };
+    }
+}
+
+/// The arguments of [`modes_kernel`] for one task: `r` poles a mode, then the modes' z, g,
+/// states, spectra and sums.
+type Task<'a> = (
+    usize,
+    &'a [Complex64],
+    &'a [[Complex64; 3]],
+    &'a mut [State],
+    &'a [Entry],
+    &'a mut [ModeSums],
+);
+
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx2,fma")]
-fn mode_kernel_avx512(z: &[Complex64], g: &[[Complex64; 3]], s: &mut [State], u: &Lanes) -> (Lanes, Lanes) {
-    mode_kernel(z, g, s, u)
+fn modes_avx512((r, z, g, s, e, o): Task<'_>) {
+    modes_kernel(r, z, g, s, e, o)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-fn mode_kernel_avx2(z: &[Complex64], g: &[[Complex64; 3]], s: &mut [State], u: &Lanes) -> (Lanes, Lanes) {
-    mode_kernel(z, g, s, u)
+fn modes_avx2((r, z, g, s, e, o): Task<'_>) {
+    modes_kernel(r, z, g, s, e, o)
 }
 
-fn dispatch(isa: Isa, z: &[Complex64], g: &[[Complex64; 3]], s: &mut [State], u: &Lanes) -> (Lanes, Lanes) {
+fn dispatch(isa: Isa, (r, z, g, s, e, o): Task<'_>) {
     match isa {
         // SAFETY: `Isa::detect` returned these only if the CPU reported the features at run time.
         #[cfg(target_arch = "x86_64")]
-        Isa::Avx512 => unsafe { mode_kernel_avx512(z, g, s, u) },
+        Isa::Avx512 => unsafe { modes_avx512((r, z, g, s, e, o)) },
         #[cfg(target_arch = "x86_64")]
-        Isa::Avx2 => unsafe { mode_kernel_avx2(z, g, s, u) },
-        _ => mode_kernel(z, g, s, u),
+        Isa::Avx2 => unsafe { modes_avx2((r, z, g, s, e, o)) },
+        _ => modes_kernel(r, z, g, s, e, o),
     }
 }
 
@@ -207,39 +258,19 @@ impl FastConvolution {
     /// Pushes Û^n of every mode and writes the eight convolutions per mode into `out`.
     pub fn step(&mut self, spectra: &[Entry], out: &mut [ModeSums]) {
         let (r, isa) = (self.r, self.isa);
+        let poles = r * MODES_PER_TASK;
         out[0] = ModeSums::default();
         out[1..]
-            .par_iter_mut()
-            .zip(self.s[r..].par_chunks_mut(r))
-            .zip(self.z[r..].par_chunks(r).zip(self.g[r..].par_chunks(r)))
-            .zip(spectra[1..].par_iter())
-            .with_min_len(128)
-            .for_each(|(((o, s), (z, g)), e)| {
-                let u = [
-                    e.top_x.re,
-                    e.top_x.im,
-                    e.bottom_x.re,
-                    e.bottom_x.im,
-                    e.top_y.re,
-                    e.top_y.im,
-                    e.bottom_y.re,
-                    e.bottom_y.im,
-                ];
-                let (h, k) = dispatch(isa, z, g, s, &u);
-                let c = |a: &Lanes, lane: usize| Complex64::new(a[lane], a[lane + 1]);
-                *o = ModeSums {
-                    h11_top: c(&h, 0),
-                    h11_bottom: c(&h, 2),
-                    h22_top: c(&h, 4),
-                    h22_bottom: c(&h, 6),
-                    k12_top_x: c(&k, 0),
-                    k12_bottom_x: c(&k, 2),
-                    k12_top_y: c(&k, 4),
-                    k12_bottom_y: c(&k, 6),
-                };
-            });
+            .par_chunks_mut(MODES_PER_TASK)
+            .zip(self.s[r..].par_chunks_mut(poles))
+            .zip(self.z[r..].par_chunks(poles).zip(self.g[r..].par_chunks(poles)))
+            .zip(spectra[1..].par_chunks(MODES_PER_TASK))
+            .for_each(|(((o, s), (z, g)), e)| dispatch(isa, (r, z, g, s, e, o)));
     }
 }
+
+/// Modes per rayon task of the recursion (each mode's result depends on that mode alone).
+const MODES_PER_TASK: usize = 128;
 
 /// The fast path's recursion states (§4.3; `crate::fast::FastConvolution`).
 #[derive(Debug, Serialize, Deserialize)]
