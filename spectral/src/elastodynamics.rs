@@ -319,12 +319,26 @@ impl HalfSpaces {
         let half = a.len() / 2;
         self.spectra[0] = split(a[0], a[0], b[0], b[0]);
         // mode j pairs a[j] with a[N − j]: a[1..=N/2] against a[N/2..N] read backwards
+        // (chunks of modes, each a plain loop: per mode, rayon called the closure out of line)
         self.spectra[1..]
-            .par_iter_mut()
-            .zip(a[1..=half].par_iter().zip(a[half..].par_iter().rev()))
-            .zip(b[1..=half].par_iter().zip(b[half..].par_iter().rev()))
-            .with_min_len(PAR_MODES)
-            .for_each(|((e, (&aj, &an)), (&bj, &bn))| *e = split(aj, an, bj, bn));
+            .par_chunks_mut(PAR_MODES)
+            .zip(
+                a[1..=half]
+                    .par_chunks(PAR_MODES)
+                    .zip(a[half..].par_rchunks(PAR_MODES)),
+            )
+            .zip(
+                b[1..=half]
+                    .par_chunks(PAR_MODES)
+                    .zip(b[half..].par_rchunks(PAR_MODES)),
+            )
+            .for_each(|((e, (aj, an)), (bj, bn))| {
+                let a = aj.iter().zip(an.iter().rev());
+                let b = bj.iter().zip(bn.iter().rev());
+                for (e, ((&aj, &an), (&bj, &bn))) in e.iter_mut().zip(a.zip(b)) {
+                    *e = split(aj, an, bj, bn);
+                }
+            });
     }
 
     /// F^±(k_j) from the convolutions and the instantaneous (2−η) coupling, packed for the
@@ -344,20 +358,31 @@ impl HalfSpaces {
         a_low[half] = f1t + mul_i(f2t);
         b_low[half] = f1b + mul_i(f2b);
         // j = 1..N/2: a[j] in a_low, a[N − j] in a_high read backwards
-        a_low[1..half]
-            .par_iter_mut()
-            .zip(a_high.par_iter_mut().rev())
-            .zip(b_low[1..half].par_iter_mut().zip(b_high.par_iter_mut().rev()))
-            .zip(sums[1..half].par_iter().zip(&spectra[1..half]).zip(&k[1..half]))
-            .with_min_len(PAR_MODES)
-            .for_each(|(((aj, an), (bj, bn)), ((s, e), &kj))| {
-                let muk = mu * kj;
-                let [f1t, f2t, f1b, f2b] = forces(muk, muk, c, s, e);
-                *aj = f1t + mul_i(f2t);
-                *bj = f1b + mul_i(f2b);
-                // the conjugate half (the fields are real: F(−k) = F̄(k))
-                *an = f1t.conj() + mul_i(f2t.conj());
-                *bn = f1b.conj() + mul_i(f2b.conj());
+        // (chunks of modes, each a plain loop; a_high's chunks taken from its end)
+        let a = a_low[1..half]
+            .par_chunks_mut(PAR_MODES)
+            .zip(a_high.par_rchunks_mut(PAR_MODES));
+        let b = b_low[1..half]
+            .par_chunks_mut(PAR_MODES)
+            .zip(b_high.par_rchunks_mut(PAR_MODES));
+        let inputs = sums[1..half]
+            .par_chunks(PAR_MODES)
+            .zip(spectra[1..half].par_chunks(PAR_MODES))
+            .zip(k[1..half].par_chunks(PAR_MODES));
+        a.zip(b)
+            .zip(inputs)
+            .for_each(|(((aj, an), (bj, bn)), ((s, e), k))| {
+                let a = aj.iter_mut().zip(an.iter_mut().rev());
+                let b = bj.iter_mut().zip(bn.iter_mut().rev());
+                for (((aj, an), (bj, bn)), ((s, e), &kj)) in a.zip(b).zip(s.iter().zip(e).zip(k)) {
+                    let muk = mu * kj;
+                    let [f1t, f2t, f1b, f2b] = forces(muk, muk, c, s, e);
+                    *aj = f1t + mul_i(f2t);
+                    *bj = f1b + mul_i(f2b);
+                    // the conjugate half (the fields are real: F(−k) = F̄(k))
+                    *an = f1t.conj() + mul_i(f2t.conj());
+                    *bn = f1b.conj() + mul_i(f2b.conj());
+                }
             });
     }
 
