@@ -1,6 +1,6 @@
 //! The time profile and the work per step a run carries (`RunOutput::profile`, `RunOutput::work`):
 //! one lap per phase and step, the bottom operator of two materials booked beside the top one's,
-//! the clock's own cost a small part of the step's, and the wall times left out of the comparison of
+//! the measured cost of one lap, and the wall times left out of the comparison of
 //! two outputs (their records are equal, their times are not).
 
 use spectral::{Phase, RunOutput, Scene};
@@ -47,14 +47,8 @@ fn every_step_books_one_lap_per_phase() {
         let beside: f64 = p.beside.iter().sum();
         assert_eq!(beside > 0.0, split, "only the bottom operator runs beside: {p:?}");
         assert!(p.lap_cost_s > 0.0 && p.lap_cost_s < 1e-6, "{}", p.lap_cost_s);
-        // a step of 256 points takes about 40 µs, against 6–7 laps of tens of ns (under 1 %
-        // at paper resolution, 0.5 ms a step; here a bound that a loaded machine keeps)
-        assert!(
-            p.clock_cost() < 0.05 * p.total(),
-            "the clock costs {} s of {} s",
-            p.clock_cost(),
-            p.total()
-        );
+        // The clock's share of the step is a timing, measured and given in docs/performance.md,
+        // not asserted here: on a loaded machine it swings with the load.
         let table = spectral::profile::table(&p, steps, out.stats.grid_points);
         assert!(table.contains("second half-space") == split, "{table}");
         assert!(table.contains("total"), "{table}");
