@@ -309,4 +309,84 @@ mod tests {
         assert_eq!(w.written, (4 * 128 + 4 * 2 * 128) as f64);
         assert_eq!(w.bytes(), 3328.0);
     }
+
+    /// Every instruction-set build the CPU has gives the portable build's bits: 301 modes (three
+    /// tasks of 128, the last one short), three poles, 25 steps of spectra that differ per mode,
+    /// lane and step. A build whose sums differ by one rounding fails it (one sum of the AVX-512
+    /// build scaled by 1 + 1e-15 did).
+    #[test]
+    fn every_instruction_set_gives_the_bits_of_the_portable_build() {
+        let modes = Modes::new(600, 1.0, 0.2, 100.0, 10);
+        let amps = |a: f64| {
+            vec![
+                Complex64::new(a, 0.3),
+                Complex64::new(-0.7, a),
+                Complex64::new(0.2, 0.0),
+            ]
+        };
+        let fit = SoeFit {
+            poles: vec![
+                Complex64::new(-0.9, 0.41),
+                Complex64::new(-2.3, 1.7),
+                Complex64::new(-0.05, 0.0),
+            ],
+            weight: vec![2.0, 2.0, 1.0],
+            amps: [amps(1.1), amps(-0.6), amps(0.35)],
+            max_error: 0.0,
+        };
+        let run = |isa: Isa| {
+            let mut fast = FastConvolution::new(&modes, &fit);
+            fast.isa = isa;
+            let nm = modes.k.len();
+            let mut out = vec![ModeSums::default(); nm];
+            let mut bits = Vec::new();
+            for n in 0..25 {
+                let v = |j: usize, q: f64| {
+                    Complex64::new(
+                        (0.37 * j as f64 + q + 0.11 * n as f64).sin(),
+                        (q * j as f64).cos() / 3.0,
+                    )
+                };
+                let spectra: Vec<Entry> = (0..nm)
+                    .map(|j| Entry {
+                        top_x: v(j, 0.1),
+                        top_y: v(j, 0.2),
+                        bottom_x: v(j, 0.3),
+                        bottom_y: v(j, 0.4),
+                    })
+                    .collect();
+                fast.step(&spectra, &mut out);
+                for o in &out {
+                    for c in [
+                        o.h11_top,
+                        o.h11_bottom,
+                        o.h22_top,
+                        o.h22_bottom,
+                        o.k12_top_x,
+                        o.k12_bottom_x,
+                        o.k12_top_y,
+                        o.k12_bottom_y,
+                    ] {
+                        bits.extend([c.re.to_bits(), c.im.to_bits()]);
+                    }
+                }
+            }
+            bits
+        };
+        let portable = run(Isa::Portable);
+        assert!(portable.iter().any(|&b| f64::from_bits(b) != 0.0));
+        let mut builds = vec![];
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
+                builds.push(Isa::Avx2);
+            }
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                builds.push(Isa::Avx512);
+            }
+        }
+        for isa in builds {
+            assert!(run(isa) == portable, "{isa:?} differs from the portable build");
+        }
+    }
 }
