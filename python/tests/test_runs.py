@@ -111,7 +111,17 @@ def test_an_error_in_the_progress_callback_stops_the_run():
     assert len(p.tips["t"]) > 0
 
 
-def test_ctrl_c_stops_the_run_at_its_next_step():
+@pytest.fixture
+def ctrl_c_raises():
+    # Python raises KeyboardInterrupt on SIGINT only if SIGINT was not ignored when it started,
+    # and a shell's background job (`cmd &` without job control) starts with it ignored: the
+    # handler a user's interactive session has is set here, and the one before put back after.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
+def test_ctrl_c_stops_the_run_at_its_next_step(ctrl_c_raises):
     stopped = {}
 
     def interrupt():
