@@ -101,9 +101,8 @@ impl BucketGrid {
     /// as on a fresh grid: the candidates it rejects only add work. (Whether a slave counts as
     /// lost to the detection distance depends, on any grid, on which cells list a master deeper
     /// than d_max, outside the box: a kept grid may count such a slave where a fresh one would
-    /// not. It never changes a force.) The grid is rebuilt once d
-    /// reaches 0.9 s (floating-point slack), when segments were added, or when a position is
-    /// not finite.
+    /// not. It never changes a force.) The grid is rebuilt once d reaches 0.9 s (floating-point
+    /// slack), when segments were added, or when a position is not finite.
     pub(crate) fn update(
         &mut self,
         segments: &[[u32; 2]],
@@ -294,10 +293,16 @@ impl BucketGrid {
         self.num_entries
     }
 
-    /// Capacities of the flat arrays (for the no-allocation tests).
+    /// Capacities of the flat arrays, the cell ranges and the anchor positions (for the
+    /// no-allocation tests).
     #[cfg(test)]
-    pub(crate) fn capacities(&self) -> (usize, usize) {
-        (self.cell_start.capacity(), self.entries.capacity())
+    pub(crate) fn capacities(&self) -> [usize; 4] {
+        [
+            self.cell_start.capacity(),
+            self.entries.capacity(),
+            self.ranges.capacity(),
+            self.anchor.capacity(),
+        ]
     }
 }
 
