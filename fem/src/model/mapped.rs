@@ -5,9 +5,12 @@
 //! element per step, which made the per-element path memory-bound (docs/fem-model.md §1, same 2×2 Gauss
 //! rule and the same discrete operator as K_e u_e, checked to round-off by a test).
 //!
-//! The elements of a row are computed [`LANES`] at a time, one lane each, with AVX2 where the CPU
-//! has it: every lane takes the same IEEE operations in the same order (no fused multiply-add),
-//! so the bits do not depend on the lane, the vector width or the CPU. The one-pass sweep of
+//! The elements of a row are computed in blocks of W consecutive elements, one lane each: W = 8,
+//! one AVX-512 register a quantity, where the CPU has AVX-512F, else W = 4, one AVX2 register
+//! (or the portable build). The width is chosen once, when the stiffness is built, and the shapes
+//! are stored in blocks of that width, so that either reads them contiguously. Every lane takes
+//! the same IEEE operations in the same order (no fused multiply-add), so the bits do not depend
+//! on the lane, the width or the CPU. The one-pass sweep of
 //! unsampled steps (`solver::sweep`) computes each element row once ([`row_forces`]) and sums it
 //! into its two layers ([`layer_from_rows`]) in the order of the separate force pass
 //! ([`internal_forces`]), so both give the same bits (docs/performance.md, "Mapped meshes").
@@ -42,14 +45,44 @@ impl Trapezoid {
     }
 }
 
-/// Elements computed together: one AVX2 register of f64 per quantity.
-pub(crate) const LANES: usize = 4;
+/// The widest block: eight f64, one AVX-512 register. Element-row buffers ([`row_len`]) are
+/// padded to whole blocks of this width, so they suit either width.
+const MAX_LANES: usize = 8;
 
-/// One number per element of a block of [`LANES`] consecutive elements of a row.
-type Lanes = [f64; LANES];
+/// Elements of a row whose forces are computed from one stack copy of their displacements, a
+/// whole number of blocks of either width.
+const SEGMENT: usize = 128;
+
+/// How many elements a block holds, and so which registers compute it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Width {
+    /// Four lanes: AVX2, or the portable build.
+    Four,
+    /// Eight lanes: AVX-512F.
+    Eight,
+}
+
+impl Width {
+    /// The widest this CPU computes in one register: eight with AVX-512F, else four.
+    fn of_cpu() -> Width {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            return Width::Eight;
+        }
+        Width::Four
+    }
+}
+
+/// The shapes of every element, row by row, each row in blocks of one width (the last block
+/// padded with copies of the row's last element).
+#[derive(Debug, Clone)]
+enum Blocks {
+    Four(Vec<Shapes<4>>),
+    Eight(Vec<Shapes<8>>),
+}
 
 /// Mapped-mesh stiffness: element width h [m], the elasticity matrix D [Pa] and the shape of
-/// every element, by blocks of [`LANES`] elements of a row.
+/// every element, by blocks of consecutive elements of a row.
 #[derive(Debug, Clone)]
 pub(crate) struct MappedStiffness {
     /// x_ξ = h/2 [m].
@@ -60,11 +93,11 @@ pub(crate) struct MappedStiffness {
     elasticity: Elasticity,
     /// Elements per row.
     nx: usize,
-    /// Gauss constants, row by row, each row in blocks of [`LANES`] elements (the last block
-    /// padded with copies of the row's last element).
-    blocks: Vec<ShapeBlock>,
-    /// Whether the CPU runs AVX2 (checked once, at build).
+    /// Gauss constants, by blocks.
+    blocks: Blocks,
+    /// Whether the CPU runs AVX2, and AVX-512F (checked once, at build).
     avx2: bool,
+    avx512: bool,
 }
 
 /// Per-element constants of the 2×2 Gauss rule: y_η at ξ = ∓g, 1/y_η there, and y_ξ at η = ∓g
@@ -76,12 +109,42 @@ pub(crate) struct GaussShape {
     y_xi: [f64; 2],
 }
 
-/// The [`GaussShape`]s of [`LANES`] elements, one lane each [m, 1/m].
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-struct ShapeBlock {
-    y_eta: [Lanes; 2],
-    inv_y_eta: [Lanes; 2],
-    y_xi: [Lanes; 2],
+/// The [`GaussShape`]s of `W` elements, one lane each [m, 1/m].
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Shapes<const W: usize> {
+    y_eta: [[f64; W]; 2],
+    inv_y_eta: [[f64; W]; 2],
+    y_xi: [[f64; W]; 2],
+}
+
+impl<const W: usize> Shapes<W> {
+    /// The blocks of a grid of `nx` elements per row, `shapes` in element order.
+    fn blocks(nx: usize, shapes: &[Trapezoid]) -> Vec<Shapes<W>> {
+        let per_row = nx.div_ceil(W);
+        let zero = [[0.0; W]; 2];
+        let mut blocks = vec![
+            Shapes {
+                y_eta: zero,
+                inv_y_eta: zero,
+                y_xi: zero
+            };
+            per_row * shapes.len() / nx.max(1)
+        ];
+        for (row, (row_shapes, row_blocks)) in shapes.chunks(nx).zip(blocks.chunks_mut(per_row)).enumerate() {
+            debug_assert_eq!(row_shapes.len(), nx, "row {row}");
+            for (b, block) in row_blocks.iter_mut().enumerate() {
+                for q in 0..W {
+                    let s = GaussShape::of(&row_shapes[(b * W + q).min(nx - 1)]);
+                    for k in 0..2 {
+                        block.y_eta[k][q] = s.y_eta[k];
+                        block.inv_y_eta[k][q] = s.inv_y_eta[k];
+                        block.y_xi[k][q] = s.y_xi[k];
+                    }
+                }
+            }
+        }
+        blocks
+    }
 }
 
 impl GaussShape {
@@ -99,34 +162,39 @@ impl GaussShape {
 
 impl MappedStiffness {
     /// The stiffness of a mapped grid of `nx` elements per row, `shapes` in element order (row
-    /// by row), width 2 `half_width` [m], elasticity `d` [Pa]; `None` if D couples shear and
-    /// normal strains (an anisotropic material), which this kernel does not compute.
+    /// by row), width 2 `half_width` [m], elasticity `d` [Pa], in blocks of the widest width
+    /// this CPU computes in one register; `None` if D couples shear and normal strains (an
+    /// anisotropic material), which this kernel does not compute.
     pub(crate) fn new(
         half_width: f64,
         d: [[f64; 3]; 3],
         nx: usize,
         shapes: &[Trapezoid],
     ) -> Option<MappedStiffness> {
+        Self::with_width(half_width, d, nx, shapes, Width::of_cpu())
+    }
+
+    /// [`MappedStiffness::new`] in blocks of `width` (eight lanes run the portable build on a
+    /// CPU without AVX-512F).
+    pub(crate) fn with_width(
+        half_width: f64,
+        d: [[f64; 3]; 3],
+        nx: usize,
+        shapes: &[Trapezoid],
+        width: Width,
+    ) -> Option<MappedStiffness> {
         let elasticity = Elasticity::of(&d)?;
-        let per_row = nx.div_ceil(LANES);
-        let mut blocks = vec![ShapeBlock::default(); per_row * shapes.len() / nx.max(1)];
-        for (row, (row_shapes, row_blocks)) in shapes.chunks(nx).zip(blocks.chunks_mut(per_row)).enumerate() {
-            debug_assert_eq!(row_shapes.len(), nx, "row {row}");
-            for (b, block) in row_blocks.iter_mut().enumerate() {
-                for q in 0..LANES {
-                    let s = GaussShape::of(&row_shapes[(b * LANES + q).min(nx - 1)]);
-                    for k in 0..2 {
-                        block.y_eta[k][q] = s.y_eta[k];
-                        block.inv_y_eta[k][q] = s.inv_y_eta[k];
-                        block.y_xi[k][q] = s.y_xi[k];
-                    }
-                }
-            }
-        }
+        let blocks = match width {
+            Width::Four => Blocks::Four(Shapes::blocks(nx, shapes)),
+            Width::Eight => Blocks::Eight(Shapes::blocks(nx, shapes)),
+        };
         #[cfg(target_arch = "x86_64")]
-        let avx2 = std::arch::is_x86_feature_detected!("avx2");
+        let (avx2, avx512) = (
+            std::arch::is_x86_feature_detected!("avx2"),
+            std::arch::is_x86_feature_detected!("avx512f"),
+        );
         #[cfg(not(target_arch = "x86_64"))]
-        let avx2 = false;
+        let (avx2, avx512) = (false, false);
         Some(MappedStiffness {
             half_width,
             inv_half_width: 1.0 / half_width,
@@ -134,33 +202,34 @@ impl MappedStiffness {
             nx,
             blocks,
             avx2,
+            avx512,
         })
     }
 }
 
-/// [`LANES`] numbers operated on together, lane by lane; every operation is one IEEE operation
-/// per lane, so the compiler may pack them in one register without changing a bit.
+/// `W` numbers operated on together, lane by lane; every operation is one IEEE operation per
+/// lane, so the compiler may pack them in one register without changing a bit.
 #[derive(Clone, Copy)]
-struct F4(Lanes);
+struct F4<const W: usize>([f64; W]);
 
 macro_rules! lane_op {
     ($tr:ident, $f:ident, $op:tt) => {
-        impl std::ops::$tr for F4 {
-            type Output = F4;
+        impl<const W: usize> std::ops::$tr for F4<W> {
+            type Output = F4<W>;
             #[inline(always)]
-            fn $f(self, o: F4) -> F4 {
+            fn $f(self, o: F4<W>) -> F4<W> {
                 let mut r = self.0;
-                for q in 0..LANES {
+                for q in 0..W {
                     r[q] = self.0[q] $op o.0[q];
                 }
                 F4(r)
             }
         }
-        impl std::ops::$tr<F4> for f64 {
-            type Output = F4;
+        impl<const W: usize> std::ops::$tr<F4<W>> for f64 {
+            type Output = F4<W>;
             #[inline(always)]
-            fn $f(self, o: F4) -> F4 {
-                F4([self; LANES]) $op o
+            fn $f(self, o: F4<W>) -> F4<W> {
+                F4([self; W]) $op o
             }
         }
     };
@@ -169,10 +238,10 @@ lane_op!(Add, add, +);
 lane_op!(Sub, sub, -);
 lane_op!(Mul, mul, *);
 
-impl std::ops::Neg for F4 {
-    type Output = F4;
+impl<const W: usize> std::ops::Neg for F4<W> {
+    type Output = F4<W>;
     #[inline(always)]
-    fn neg(self) -> F4 {
+    fn neg(self) -> F4<W> {
         F4(self.0.map(|v| -v))
     }
 }
@@ -201,7 +270,7 @@ impl Elasticity {
     }
 }
 
-/// f_e = K_e u_e of [`LANES`] vertical-sided elements [N/m], 2×2 Gauss, as `[corner][component]`
+/// f_e = K_e u_e of `W` vertical-sided elements [N/m], 2×2 Gauss, as `[corner][component]`
 /// per lane, from their corner displacements `ue[corner][component]` [m]. With the edge
 /// differences U_ξ(η) = ¼[(1−η)(u₁−u₀) + (1+η)(u₂−u₃)] and U_η(ξ) = ¼[(1−ξ)(u₃−u₀) + (1+ξ)(u₂−u₁)]:
 /// ∂u/∂y = U_η / y_η (a function of ξ alone), ∂u/∂x = (U_ξ − y_ξ ∂u/∂y)/x_ξ, σ = D ε, and Bᵀσ
@@ -209,7 +278,13 @@ impl Elasticity {
 /// y_ξ (σ_xx, σ_xy); the sums over Gauss points are gathered per edge before the scatter (about
 /// 170 flops per element).
 #[inline(always)]
-fn block_forces(s: &ShapeBlock, x_xi: f64, inv_x_xi: f64, d: &Elasticity, ue: &[V; 4]) -> [V; 4] {
+fn block_forces<const W: usize>(
+    s: &Shapes<W>,
+    x_xi: f64,
+    inv_x_xi: f64,
+    d: &Elasticity,
+    ue: &[V<W>; 4],
+) -> [V<W>; 4] {
     let g = 1.0 / 3f64.sqrt();
     let (w0, w1) = (0.25 * (1.0 + g), 0.25 * (1.0 - g)); // ¼(1 ∓ (∓g)): weight of the near / far edge
     let (db, dt) = (ue[1] - ue[0], ue[2] - ue[3]);
@@ -218,14 +293,14 @@ fn block_forces(s: &ShapeBlock, x_xi: f64, inv_x_xi: f64, d: &Elasticity, ue: &[
     let u_xi = [w0 * db + w1 * dt, w1 * db + w0 * dt];
     let u_eta = [w0 * dl + w1 * dr, w1 * dl + w0 * dr];
     let du_dy = [u_eta[0] * F4(s.inv_y_eta[0]), u_eta[1] * F4(s.inv_y_eta[1])];
-    let zero = F4([0.0; LANES]);
+    let zero = F4([0.0; W]);
     let mut p_sum = [V { x: zero, y: zero }; 2];
     let mut q_sum = [V { x: zero, y: zero }; 2];
     for je in 0..2 {
         let y_xi = F4(s.y_xi[je]);
         for ix in 0..2 {
             let dy = du_dy[ix];
-            let dx = (u_xi[je] - dy * y_xi) * F4([inv_x_xi; LANES]);
+            let dx = (u_xi[je] - dy * y_xi) * F4([inv_x_xi; W]);
             let (e0, e1, e2) = (dx.x, dy.y, dy.x + dx.y);
             let sxx = d.d00 * e0 + d.d01 * e1;
             let syy = d.d10 * e0 + d.d11 * e1;
@@ -247,17 +322,17 @@ fn block_forces(s: &ShapeBlock, x_xi: f64, inv_x_xi: f64, d: &Elasticity, ue: &[
     [-pb - ql, pb - qr, pt + qr, -pt + ql]
 }
 
-/// A vector quantity of [`LANES`] elements: x and y components.
+/// A vector quantity of `W` elements: x and y components.
 #[derive(Clone, Copy)]
-struct V {
-    x: F4,
-    y: F4,
+struct V<const W: usize> {
+    x: F4<W>,
+    y: F4<W>,
 }
 
-impl std::ops::Add for V {
-    type Output = V;
+impl<const W: usize> std::ops::Add for V<W> {
+    type Output = V<W>;
     #[inline(always)]
-    fn add(self, o: V) -> V {
+    fn add(self, o: V<W>) -> V<W> {
         V {
             x: self.x + o.x,
             y: self.y + o.y,
@@ -265,10 +340,10 @@ impl std::ops::Add for V {
     }
 }
 
-impl std::ops::Sub for V {
-    type Output = V;
+impl<const W: usize> std::ops::Sub for V<W> {
+    type Output = V<W>;
     #[inline(always)]
-    fn sub(self, o: V) -> V {
+    fn sub(self, o: V<W>) -> V<W> {
         V {
             x: self.x - o.x,
             y: self.y - o.y,
@@ -276,10 +351,10 @@ impl std::ops::Sub for V {
     }
 }
 
-impl std::ops::Neg for V {
-    type Output = V;
+impl<const W: usize> std::ops::Neg for V<W> {
+    type Output = V<W>;
     #[inline(always)]
-    fn neg(self) -> V {
+    fn neg(self) -> V<W> {
         V {
             x: -self.x,
             y: -self.y,
@@ -287,10 +362,10 @@ impl std::ops::Neg for V {
     }
 }
 
-impl std::ops::Mul<F4> for V {
-    type Output = V;
+impl<const W: usize> std::ops::Mul<F4<W>> for V<W> {
+    type Output = V<W>;
     #[inline(always)]
-    fn mul(self, a: F4) -> V {
+    fn mul(self, a: F4<W>) -> V<W> {
         V {
             x: self.x * a,
             y: self.y * a,
@@ -298,10 +373,10 @@ impl std::ops::Mul<F4> for V {
     }
 }
 
-impl std::ops::Mul<V> for f64 {
-    type Output = V;
+impl<const W: usize> std::ops::Mul<V<W>> for f64 {
+    type Output = V<W>;
     #[inline(always)]
-    fn mul(self, v: V) -> V {
+    fn mul(self, v: V<W>) -> V<W> {
         V {
             x: self * v.x,
             y: self * v.y,
@@ -310,26 +385,24 @@ impl std::ops::Mul<V> for f64 {
 }
 
 /// Length of a buffer of one element row's forces ([`row_forces`]) for `nx` elements per row:
-/// 8 arrays (corner a, component c) of the row's elements, padded to whole blocks.
+/// 8 arrays (corner a, component c) of the row's elements, padded to whole blocks of either width.
 pub(crate) fn row_len(nx: usize) -> usize {
-    8 * nx.div_ceil(LANES) * LANES
+    8 * nx.div_ceil(MAX_LANES) * MAX_LANES
 }
-
-/// Blocks computed from one stack copy of their displacements ([`row_forces`]).
-const SEGMENT: usize = 32;
 
 /// Element forces of one element row into `out` ([`row_len`] numbers: corner a, component c of
 /// element e at `(2a + c)·E + e`, E = `out.len()` / 8) [N/m], from the displacement rows of its
 /// lower and upper layers (x, y pairs) [m].
 pub(crate) fn row_forces(k: &MappedStiffness, row: usize, lower: &[f64], upper: &[f64], out: &mut [f64]) {
-    for first in (0..k.nx.div_ceil(LANES)).step_by(SEGMENT) {
+    for first in (0..k.nx).step_by(SEGMENT) {
         segment_forces(k, row, first, lower, upper, out, 0);
     }
 }
 
-/// Blocks `first..` (at most [`SEGMENT`] of them, and at most the row's) of [`row_forces`] into
-/// `out`, whose first element is element `e0` of the row ([`row_forces`] layout, E = `out.len()`
-/// / 8).
+/// Elements `first..` (at most [`SEGMENT`] of them, and at most the row's; `first` a multiple of
+/// [`MAX_LANES`]) of [`row_forces`] into `out`, whose first element is element `e0` of the row
+/// ([`row_forces`] layout, E = `out.len()` / 8), by the stiffness's blocks on the widest
+/// registers the CPU has for them.
 fn segment_forces(
     k: &MappedStiffness,
     row: usize,
@@ -339,18 +412,50 @@ fn segment_forces(
     out: &mut [f64],
     e0: usize,
 ) {
-    #[cfg(target_arch = "x86_64")]
-    if k.avx2 {
-        // SAFETY: `avx2` is true only if the CPU reported AVX2 at run time (`MappedStiffness::new`).
-        return unsafe { segment_avx2(k, row, first, lower, upper, out, e0) };
+    match &k.blocks {
+        Blocks::Eight(blocks) => {
+            #[cfg(target_arch = "x86_64")]
+            if k.avx512 {
+                // SAFETY: `avx512` is true only if the CPU reported AVX-512F at run time
+                // (`MappedStiffness::with_width`).
+                return unsafe { segment_avx512(k, blocks, row, first, lower, upper, out, e0) };
+            }
+            segment_portable(k, blocks, row, first, lower, upper, out, e0)
+        }
+        Blocks::Four(blocks) => {
+            #[cfg(target_arch = "x86_64")]
+            if k.avx2 {
+                // SAFETY: `avx2` is true only if the CPU reported AVX2 at run time
+                // (`MappedStiffness::with_width`).
+                return unsafe { segment_avx2(k, blocks, row, first, lower, upper, out, e0) };
+            }
+            segment_portable(k, blocks, row, first, lower, upper, out, e0)
+        }
     }
-    segment_portable(k, row, first, lower, upper, out, e0)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+#[allow(clippy::too_many_arguments)]
+fn segment_avx512(
+    k: &MappedStiffness,
+    blocks: &[Shapes<8>],
+    row: usize,
+    first: usize,
+    lower: &[f64],
+    upper: &[f64],
+    out: &mut [f64],
+    e0: usize,
+) {
+    segment_portable(k, blocks, row, first, lower, upper, out, e0)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
+#[allow(clippy::too_many_arguments)]
 fn segment_avx2(
     k: &MappedStiffness,
+    blocks: &[Shapes<4>],
     row: usize,
     first: usize,
     lower: &[f64],
@@ -358,12 +463,15 @@ fn segment_avx2(
     out: &mut [f64],
     e0: usize,
 ) {
-    segment_portable(k, row, first, lower, upper, out, e0)
+    segment_portable(k, blocks, row, first, lower, upper, out, e0)
 }
 
+/// [`segment_forces`] on blocks of `W` elements (`blocks`: every block of the stiffness).
 #[inline(always)]
-fn segment_portable(
+#[allow(clippy::too_many_arguments)]
+fn segment_portable<const W: usize>(
     k: &MappedStiffness,
+    blocks: &[Shapes<W>],
     row: usize,
     first: usize,
     lower: &[f64],
@@ -371,33 +479,39 @@ fn segment_portable(
     out: &mut [f64],
     e0: usize,
 ) {
+    debug_assert!(first.is_multiple_of(W) && SEGMENT.is_multiple_of(MAX_LANES));
     let nx = k.nx;
-    let per_row = nx.div_ceil(LANES);
-    let blocks = &k.blocks[row * per_row + first..(row + 1) * per_row];
-    let blocks = &blocks[..blocks.len().min(SEGMENT)];
+    let per_row = nx.div_ceil(W);
+    let blocks = &blocks[row * per_row + first / W..(row + 1) * per_row];
+    let blocks = &blocks[..blocks.len().min(SEGMENT / W)];
     let stride = out.len() / 8;
-    for (b, shape) in (first..).zip(blocks) {
-        // the LANES + 1 nodes of the block in each row, x, y pairs; past the row's last node
-        // (in its last block) the last node again: those lanes' forces are never read
-        const SPAN: usize = 2 * (LANES + 1);
-        let span = |r: &[f64]| -> [f64; SPAN] {
-            let n0 = 2 * b * LANES;
-            match r.get(n0..n0 + SPAN) {
-                Some(s) => s.try_into().expect("invariant: SPAN numbers"),
-                None => std::array::from_fn(|i| r[2 * (b * LANES + i / 2).min(nx) + i % 2]),
+    for (b, shape) in (first / W..).zip(blocks) {
+        // the W + 1 nodes of the block in each row, x, y pairs; past the row's last node (in its
+        // last block) the last node again: those lanes' forces are never read
+        let span = |r: &[f64]| -> [f64; 2 * (MAX_LANES + 1)] {
+            let (n0, len) = (2 * b * W, 2 * (W + 1));
+            let mut s = [0.0; 2 * (MAX_LANES + 1)];
+            match r.get(n0..n0 + len) {
+                Some(r) => s[..len].copy_from_slice(r),
+                None => {
+                    for (i, v) in s[..len].iter_mut().enumerate() {
+                        *v = r[2 * (b * W + i / 2).min(nx) + i % 2];
+                    }
+                }
             }
+            s
         };
         let (l, h) = (span(lower), span(upper));
-        let node = |r: &[f64; SPAN], shift: usize| V {
+        let node = |r: &[f64; 2 * (MAX_LANES + 1)], shift: usize| V {
             x: F4(std::array::from_fn(|q| r[2 * (q + shift)])),
             y: F4(std::array::from_fn(|q| r[2 * (q + shift) + 1])),
         };
         let ue = [node(&l, 0), node(&l, 1), node(&h, 1), node(&h, 0)];
         let fe = block_forces(shape, k.half_width, k.inv_half_width, &k.elasticity, &ue);
-        let e = b * LANES - e0;
+        let e = b * W - e0;
         for (a, corner) in fe.iter().enumerate() {
-            out[2 * a * stride + e..2 * a * stride + e + LANES].copy_from_slice(&corner.x.0);
-            out[(2 * a + 1) * stride + e..(2 * a + 1) * stride + e + LANES].copy_from_slice(&corner.y.0);
+            out[2 * a * stride + e..2 * a * stride + e + W].copy_from_slice(&corner.x.0);
+            out[(2 * a + 1) * stride + e..(2 * a + 1) * stride + e + W].copy_from_slice(&corner.y.0);
         }
     }
 }
@@ -467,12 +581,12 @@ pub(crate) fn internal_forces(grid: &Grid, k: &MappedStiffness, u: &[Vector2<f64
                 &flat[2 * layer * w..2 * (layer + 1) * w],
                 &flat[2 * (layer + 1) * w..2 * (layer + 2) * w],
             );
-            let mut segment = [0.0; 8 * SEGMENT * LANES];
-            for first in (0..nx.div_ceil(LANES)).step_by(SEGMENT) {
+            let mut segment = [0.0; 8 * SEGMENT];
+            for first in (0..nx).step_by(SEGMENT) {
                 // a segment at a time: a row's forces would need a buffer per task
-                segment_forces(k, r, first, ul, uh, &mut segment, first * LANES);
-                for c in first * LANES..((first + SEGMENT) * LANES).min(nx) {
-                    let e = c - first * LANES;
+                segment_forces(k, r, first, ul, uh, &mut segment, first);
+                for c in first..(first + SEGMENT).min(nx) {
+                    let e = c - first;
                     let fe = |a: usize| Vector2::new(at(&segment, e, a, 0), at(&segment, e, a, 1));
                     lo[c] -= fe(0);
                     lo[c + 1] -= fe(1);
@@ -545,15 +659,15 @@ mod tests {
         );
     }
 
-    /// A row of two segments, the second of two full blocks and a padded one, each element of its
-    /// own shape: the AVX2
-    /// path gives the bits of the portable one, a segment starting at the second block the bits
-    /// of the whole row, every element the bits it has alone in a row, whatever its lane, and
-    /// the padding changes nothing.
+    /// A row of two segments, the second of 11 elements (a padded block of either width), each
+    /// element of its own shape, in blocks of four and of eight: the build for the CPU's
+    /// registers gives the bits of the portable one, a segment starting at element 8 the bits of
+    /// the whole row, every element the bits it has alone in a row, whatever its lane and the
+    /// width, and the padding changes nothing.
     #[test]
     fn every_lane_gives_the_bits_of_its_element_alone() {
         let d = crate::law::elastic::PlaneStrain::new(7e6, 0.35, 1230.0).d_matrix();
-        let (h, nx) = (1e-3, SEGMENT * LANES + 11);
+        let (h, nx) = (1e-3, SEGMENT + 11);
         let y = |i: usize, j: usize| j as f64 * h * (1.0 + 0.3 * (i as f64 * 0.9).sin());
         let corners = |e: usize| {
             let x = |i: usize| i as f64 * h;
@@ -561,7 +675,6 @@ mod tests {
                 .map(|(i, j)| Vector2::new(x(i), y(i, j) + 0.1 * h * (i as f64).cos()))
         };
         let shapes: Vec<Trapezoid> = (0..nx).map(|e| Trapezoid::of(&corners(e), h).unwrap()).collect();
-        let k = MappedStiffness::new(0.5 * h, d, nx, &shapes).unwrap();
         let u = |i: usize, j: usize| {
             Vector2::new(
                 (i as f64 * 0.37 + j as f64).sin(),
@@ -570,35 +683,56 @@ mod tests {
         };
         let row = |j: usize| -> Vec<f64> { (0..=nx).flat_map(|i| [u(i, j).x, u(i, j).y]).collect() };
         let (lower, upper) = (row(0), row(1));
-        let mut portable = vec![f64::NAN; row_len(nx)];
-        for first in (0..nx.div_ceil(LANES)).step_by(SEGMENT) {
-            segment_portable(&k, 0, first, &lower, &upper, &mut portable, 0);
-        }
-        let mut dispatched = vec![f64::NAN; row_len(nx)];
-        row_forces(&k, 0, &lower, &upper, &mut dispatched);
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-        assert!(bits(&portable) == bits(&dispatched), "AVX2 against portable");
-        // a segment from the second block on (SEGMENT blocks)
-        let mut blocks = vec![f64::NAN; row_len(nx)];
-        segment_forces(&k, 0, 1, &lower, &upper, &mut blocks, 0);
-        let from_second = |v: &[f64]| {
-            let stride = v.len() / 8;
-            let end = ((1 + SEGMENT) * LANES).min(nx);
-            (0..8)
-                .flat_map(|a| bits(&v[a * stride + LANES..a * stride + end]))
-                .collect::<Vec<_>>()
-        };
-        assert!(
-            from_second(&portable) == from_second(&blocks),
-            "a segment from block 1 against a row"
-        );
+        // every element's forces alone, in a row of one
+        let mut alone = vec![0u64; 0];
         for e in 0..nx {
             let ue = [u(e, 0), u(e + 1, 0), u(e + 1, 1), u(e, 1)];
-            let alone = forces_of(&corners(e), h, &d, &ue);
-            for (a, alone) in alone.iter().enumerate() {
-                assert_eq!(at(&portable, e, a, 0).to_bits(), alone.x.to_bits(), "element {e}");
-                assert_eq!(at(&portable, e, a, 1).to_bits(), alone.y.to_bits(), "element {e}");
+            alone.extend(
+                forces_of(&corners(e), h, &d, &ue)
+                    .iter()
+                    .flat_map(|f| [f.x.to_bits(), f.y.to_bits()]),
+            );
+        }
+        let of_each = |v: &[f64]| -> Vec<u64> {
+            (0..nx)
+                .flat_map(|e| (0..4).flat_map(move |a| [at(v, e, a, 0).to_bits(), at(v, e, a, 1).to_bits()]))
+                .collect()
+        };
+        for width in [Width::Four, Width::Eight] {
+            let k = MappedStiffness::with_width(0.5 * h, d, nx, &shapes, width).unwrap();
+            let mut portable = vec![f64::NAN; row_len(nx)];
+            for first in (0..nx).step_by(SEGMENT) {
+                match &k.blocks {
+                    Blocks::Four(b) => segment_portable(&k, b, 0, first, &lower, &upper, &mut portable, 0),
+                    Blocks::Eight(b) => segment_portable(&k, b, 0, first, &lower, &upper, &mut portable, 0),
+                }
             }
+            let mut dispatched = vec![f64::NAN; row_len(nx)];
+            row_forces(&k, 0, &lower, &upper, &mut dispatched);
+            assert!(
+                bits(&portable) == bits(&dispatched),
+                "{width:?}: the CPU's build against portable"
+            );
+            // a segment from element 8 on
+            let mut part = vec![f64::NAN; row_len(nx)];
+            segment_forces(&k, 0, 8, &lower, &upper, &mut part, 0);
+            let from_8 = |v: &[f64]| {
+                let stride = v.len() / 8;
+                (0..8)
+                    .flat_map(|a| bits(&v[a * stride + 8..a * stride + (8 + SEGMENT).min(nx)]))
+                    .collect::<Vec<_>>()
+            };
+            assert!(
+                from_8(&portable) == from_8(&part),
+                "{width:?}: a segment from element 8 against a row"
+            );
+            let mismatch = (0..alone.len()).find(|&i| of_each(&portable)[i] != alone[i]);
+            assert_eq!(
+                mismatch.map(|i| i / 8),
+                None,
+                "{width:?}: the first element unlike its forces alone"
+            );
         }
     }
 }
