@@ -434,37 +434,28 @@ fn segment_forces(
     }
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-#[allow(clippy::too_many_arguments)]
-fn segment_avx512(
-    k: &MappedStiffness,
-    blocks: &[Shapes<8>],
-    row: usize,
-    first: usize,
-    lower: &[f64],
-    upper: &[f64],
-    out: &mut [f64],
-    e0: usize,
-) {
-    segment_portable(k, blocks, row, first, lower, upper, out, e0)
+/// `$name`: [`segment_portable`] on blocks of `$w`, compiled with the CPU feature `$feature`.
+macro_rules! segment_built_for {
+    ($name:ident, $feature:literal, $w:literal) => {
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = $feature)]
+        #[allow(clippy::too_many_arguments)]
+        fn $name(
+            k: &MappedStiffness,
+            blocks: &[Shapes<$w>],
+            row: usize,
+            first: usize,
+            lower: &[f64],
+            upper: &[f64],
+            out: &mut [f64],
+            e0: usize,
+        ) {
+            segment_portable(k, blocks, row, first, lower, upper, out, e0)
+        }
+    };
 }
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[allow(clippy::too_many_arguments)]
-fn segment_avx2(
-    k: &MappedStiffness,
-    blocks: &[Shapes<4>],
-    row: usize,
-    first: usize,
-    lower: &[f64],
-    upper: &[f64],
-    out: &mut [f64],
-    e0: usize,
-) {
-    segment_portable(k, blocks, row, first, lower, upper, out, e0)
-}
+segment_built_for!(segment_avx512, "avx512f", 8);
+segment_built_for!(segment_avx2, "avx2", 4);
 
 /// [`segment_forces`] on blocks of `W` elements (`blocks`: every block of the stiffness).
 #[inline(always)]
