@@ -92,6 +92,20 @@ fn fem_output_on_a_gmsh_mesh_is_identical_between_runs_and_thread_counts() {
     assert_identical("fem-mesh", |dir| run_through_insertion(&scene, dir));
 }
 
+/// A P wave through a bar of two materials on a Gmsh mesh of rectangles
+/// (`scenes/tiny-fem-bimaterial.toml`, 1 005 nodes of unstructured Q4: 4 tiles of the edge-based
+/// bulk kernel, so two and three threads split them, the second material's blocks among them).
+#[cfg(feature = "fem")]
+#[test]
+fn fem_output_on_a_gmsh_quadrangle_mesh_is_identical_between_runs_and_thread_counts() {
+    let text = validation::scene_text("tiny-fem-bimaterial");
+    let scene = fem::Scene::from_toml_str_in(&text, &validation::repo_root().join("scenes")).unwrap();
+    assert_identical("fem-quad-mesh", |dir| {
+        let out = fem::run(&scene).unwrap();
+        fem::write_csv(&out, dir).unwrap();
+    });
+}
+
 /// The rough interface on its mapped mesh (`scenes/tiny-fem-rough-interface.toml`, 150 × 50
 /// elements of their own shapes: 4 bands of the one-pass sweep, each element row's forces
 /// computed once and summed into its two layers, so two and three threads split the bands
