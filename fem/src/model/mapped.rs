@@ -210,26 +210,26 @@ impl MappedStiffness {
 /// `W` numbers operated on together, lane by lane; every operation is one IEEE operation per
 /// lane, so the compiler may pack them in one register without changing a bit.
 #[derive(Clone, Copy)]
-struct F4<const W: usize>([f64; W]);
+struct Lanes<const W: usize>([f64; W]);
 
 macro_rules! lane_op {
     ($tr:ident, $f:ident, $op:tt) => {
-        impl<const W: usize> std::ops::$tr for F4<W> {
-            type Output = F4<W>;
+        impl<const W: usize> std::ops::$tr for Lanes<W> {
+            type Output = Lanes<W>;
             #[inline(always)]
-            fn $f(self, o: F4<W>) -> F4<W> {
+            fn $f(self, o: Lanes<W>) -> Lanes<W> {
                 let mut r = self.0;
                 for q in 0..W {
                     r[q] = self.0[q] $op o.0[q];
                 }
-                F4(r)
+                Lanes(r)
             }
         }
-        impl<const W: usize> std::ops::$tr<F4<W>> for f64 {
-            type Output = F4<W>;
+        impl<const W: usize> std::ops::$tr<Lanes<W>> for f64 {
+            type Output = Lanes<W>;
             #[inline(always)]
-            fn $f(self, o: F4<W>) -> F4<W> {
-                F4([self; W]) $op o
+            fn $f(self, o: Lanes<W>) -> Lanes<W> {
+                Lanes([self; W]) $op o
             }
         }
     };
@@ -238,11 +238,11 @@ lane_op!(Add, add, +);
 lane_op!(Sub, sub, -);
 lane_op!(Mul, mul, *);
 
-impl<const W: usize> std::ops::Neg for F4<W> {
-    type Output = F4<W>;
+impl<const W: usize> std::ops::Neg for Lanes<W> {
+    type Output = Lanes<W>;
     #[inline(always)]
-    fn neg(self) -> F4<W> {
-        F4(self.0.map(|v| -v))
+    fn neg(self) -> Lanes<W> {
+        Lanes(self.0.map(|v| -v))
     }
 }
 
@@ -292,20 +292,20 @@ fn block_forces<const W: usize>(
     // index 0: η (or ξ) = −g, index 1: +g
     let u_xi = [w0 * db + w1 * dt, w1 * db + w0 * dt];
     let u_eta = [w0 * dl + w1 * dr, w1 * dl + w0 * dr];
-    let du_dy = [u_eta[0] * F4(s.inv_y_eta[0]), u_eta[1] * F4(s.inv_y_eta[1])];
-    let zero = F4([0.0; W]);
+    let du_dy = [u_eta[0] * Lanes(s.inv_y_eta[0]), u_eta[1] * Lanes(s.inv_y_eta[1])];
+    let zero = Lanes([0.0; W]);
     let mut p_sum = [V { x: zero, y: zero }; 2];
     let mut q_sum = [V { x: zero, y: zero }; 2];
     for je in 0..2 {
-        let y_xi = F4(s.y_xi[je]);
+        let y_xi = Lanes(s.y_xi[je]);
         for ix in 0..2 {
             let dy = du_dy[ix];
-            let dx = (u_xi[je] - dy * y_xi) * F4([inv_x_xi; W]);
+            let dx = (u_xi[je] - dy * y_xi) * Lanes([inv_x_xi; W]);
             let (e0, e1, e2) = (dx.x, dy.y, dy.x + dx.y);
             let sxx = d.d00 * e0 + d.d01 * e1;
             let syy = d.d10 * e0 + d.d11 * e1;
             let sxy = d.d22 * e2;
-            let y_eta = F4(s.y_eta[ix]);
+            let y_eta = Lanes(s.y_eta[ix]);
             p_sum[je] = p_sum[je] + V { x: sxx, y: sxy } * y_eta;
             q_sum[ix] = q_sum[ix]
                 + V {
@@ -325,8 +325,8 @@ fn block_forces<const W: usize>(
 /// A vector quantity of `W` elements: x and y components.
 #[derive(Clone, Copy)]
 struct V<const W: usize> {
-    x: F4<W>,
-    y: F4<W>,
+    x: Lanes<W>,
+    y: Lanes<W>,
 }
 
 impl<const W: usize> std::ops::Add for V<W> {
@@ -362,10 +362,10 @@ impl<const W: usize> std::ops::Neg for V<W> {
     }
 }
 
-impl<const W: usize> std::ops::Mul<F4<W>> for V<W> {
+impl<const W: usize> std::ops::Mul<Lanes<W>> for V<W> {
     type Output = V<W>;
     #[inline(always)]
-    fn mul(self, a: F4<W>) -> V<W> {
+    fn mul(self, a: Lanes<W>) -> V<W> {
         V {
             x: self.x * a,
             y: self.y * a,
@@ -494,8 +494,8 @@ fn segment_portable<const W: usize>(
         };
         let (l, h) = (span(lower), span(upper));
         let node = |r: &[f64; 2 * (MAX_LANES + 1)], shift: usize| V {
-            x: F4(std::array::from_fn(|q| r[2 * (q + shift)])),
-            y: F4(std::array::from_fn(|q| r[2 * (q + shift) + 1])),
+            x: Lanes(std::array::from_fn(|q| r[2 * (q + shift)])),
+            y: Lanes(std::array::from_fn(|q| r[2 * (q + shift) + 1])),
         };
         let ue = [node(&l, 0), node(&l, 1), node(&h, 1), node(&h, 0)];
         let fe = block_forces(shape, k.half_width, k.inv_half_width, &k.elasticity, &ue);
