@@ -65,11 +65,23 @@ pub(crate) enum Width {
 impl Width {
     /// The widest this CPU computes in one register: eight with AVX-512F, else four.
     fn of_cpu() -> Width {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx512f") {
-            return Width::Eight;
+        if Width::Eight.runs_here() {
+            Width::Eight
+        } else {
+            Width::Four
         }
-        Width::Four
+    }
+
+    /// Whether the CPU has the instructions of this width's build: AVX-512F for eight lanes,
+    /// AVX2 for four.
+    fn runs_here(self) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        return match self {
+            Width::Eight => std::arch::is_x86_feature_detected!("avx512f"),
+            Width::Four => std::arch::is_x86_feature_detected!("avx2"),
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        false
     }
 }
 
@@ -95,9 +107,9 @@ pub(crate) struct MappedStiffness {
     nx: usize,
     /// Gauss constants, by blocks.
     blocks: Blocks,
-    /// Whether the CPU runs AVX2, and AVX-512F (checked once, at build).
-    avx2: bool,
-    avx512: bool,
+    /// Whether the CPU runs the instructions of the blocks' width: AVX2 for four lanes,
+    /// AVX-512F for eight (checked once, at build); else the portable build runs them.
+    simd: bool,
 }
 
 /// Per-element constants of the 2×2 Gauss rule: y_η at ξ = ∓g, 1/y_η there, and y_ξ at η = ∓g
@@ -188,21 +200,13 @@ impl MappedStiffness {
             Width::Four => Blocks::Four(Shapes::blocks(nx, shapes)),
             Width::Eight => Blocks::Eight(Shapes::blocks(nx, shapes)),
         };
-        #[cfg(target_arch = "x86_64")]
-        let (avx2, avx512) = (
-            std::arch::is_x86_feature_detected!("avx2"),
-            std::arch::is_x86_feature_detected!("avx512f"),
-        );
-        #[cfg(not(target_arch = "x86_64"))]
-        let (avx2, avx512) = (false, false);
         Some(MappedStiffness {
             half_width,
             inv_half_width: 1.0 / half_width,
             elasticity,
             nx,
             blocks,
-            avx2,
-            avx512,
+            simd: width.runs_here(),
         })
     }
 }
@@ -395,41 +399,50 @@ pub(crate) fn row_len(nx: usize) -> usize {
 /// lower and upper layers (x, y pairs) [m].
 pub(crate) fn row_forces(k: &MappedStiffness, row: usize, lower: &[f64], upper: &[f64], out: &mut [f64]) {
     for first in (0..k.nx).step_by(SEGMENT) {
-        segment_forces(k, row, first, lower, upper, out, 0);
+        let segment = Segment {
+            row,
+            first,
+            lower,
+            upper,
+            e0: 0,
+        };
+        segment_forces(k, &segment, out);
     }
 }
 
-/// Elements `first..` (at most [`SEGMENT`] of them, and at most the row's; `first` a multiple of
-/// [`MAX_LANES`]) of [`row_forces`] into `out`, whose first element is element `e0` of the row
-/// ([`row_forces`] layout, E = `out.len()` / 8), by the stiffness's blocks on the widest
-/// registers the CPU has for them.
-fn segment_forces(
-    k: &MappedStiffness,
+/// A segment of [`row_forces`]: elements `first..` of element row `row` (at most [`SEGMENT`] of
+/// them, and at most the row's; `first` a multiple of [`MAX_LANES`]), from the displacement rows
+/// of its lower and upper layers (x, y pairs) [m], into a buffer whose first element is element
+/// `e0` of the row ([`row_forces`] layout, E = its length / 8).
+struct Segment<'a> {
     row: usize,
     first: usize,
-    lower: &[f64],
-    upper: &[f64],
-    out: &mut [f64],
+    lower: &'a [f64],
+    upper: &'a [f64],
     e0: usize,
-) {
+}
+
+/// The forces of a [`Segment`] into `out`, by the stiffness's blocks on the widest registers the
+/// CPU has for them.
+fn segment_forces(k: &MappedStiffness, segment: &Segment<'_>, out: &mut [f64]) {
     match &k.blocks {
         Blocks::Eight(blocks) => {
             #[cfg(target_arch = "x86_64")]
-            if k.avx512 {
-                // SAFETY: `avx512` is true only if the CPU reported AVX-512F at run time
-                // (`MappedStiffness::with_width`).
-                return unsafe { segment_avx512(k, blocks, row, first, lower, upper, out, e0) };
+            if k.simd {
+                // SAFETY: `simd` is true for eight lanes only if the CPU reported AVX-512F at run
+                // time (`MappedStiffness::with_width`).
+                return unsafe { segment_avx512(k, blocks, segment, out) };
             }
-            segment_portable(k, blocks, row, first, lower, upper, out, e0)
+            segment_portable(k, blocks, segment, out)
         }
         Blocks::Four(blocks) => {
             #[cfg(target_arch = "x86_64")]
-            if k.avx2 {
-                // SAFETY: `avx2` is true only if the CPU reported AVX2 at run time
+            if k.simd {
+                // SAFETY: `simd` is true for four lanes only if the CPU reported AVX2 at run time
                 // (`MappedStiffness::with_width`).
-                return unsafe { segment_avx2(k, blocks, row, first, lower, upper, out, e0) };
+                return unsafe { segment_avx2(k, blocks, segment, out) };
             }
-            segment_portable(k, blocks, row, first, lower, upper, out, e0)
+            segment_portable(k, blocks, segment, out)
         }
     }
 }
@@ -439,18 +452,8 @@ macro_rules! segment_built_for {
     ($name:ident, $feature:literal, $w:literal) => {
         #[cfg(target_arch = "x86_64")]
         #[target_feature(enable = $feature)]
-        #[allow(clippy::too_many_arguments)]
-        fn $name(
-            k: &MappedStiffness,
-            blocks: &[Shapes<$w>],
-            row: usize,
-            first: usize,
-            lower: &[f64],
-            upper: &[f64],
-            out: &mut [f64],
-            e0: usize,
-        ) {
-            segment_portable(k, blocks, row, first, lower, upper, out, e0)
+        fn $name(k: &MappedStiffness, blocks: &[Shapes<$w>], segment: &Segment<'_>, out: &mut [f64]) {
+            segment_portable(k, blocks, segment, out)
         }
     };
 }
@@ -459,17 +462,19 @@ segment_built_for!(segment_avx2, "avx2", 4);
 
 /// [`segment_forces`] on blocks of `W` elements (`blocks`: every block of the stiffness).
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
 fn segment_portable<const W: usize>(
     k: &MappedStiffness,
     blocks: &[Shapes<W>],
-    row: usize,
-    first: usize,
-    lower: &[f64],
-    upper: &[f64],
+    segment: &Segment<'_>,
     out: &mut [f64],
-    e0: usize,
 ) {
+    let &Segment {
+        row,
+        first,
+        lower,
+        upper,
+        e0,
+    } = segment;
     debug_assert!(first.is_multiple_of(W) && SEGMENT.is_multiple_of(MAX_LANES));
     let nx = k.nx;
     let per_row = nx.div_ceil(W);
@@ -575,7 +580,14 @@ pub(crate) fn internal_forces(grid: &Grid, k: &MappedStiffness, u: &[Vector2<f64
             let mut segment = [0.0; 8 * SEGMENT];
             for first in (0..nx).step_by(SEGMENT) {
                 // a segment at a time: a row's forces would need a buffer per task
-                segment_forces(k, r, first, ul, uh, &mut segment, first);
+                let part = Segment {
+                    row: r,
+                    first,
+                    lower: ul,
+                    upper: uh,
+                    e0: first,
+                };
+                segment_forces(k, &part, &mut segment);
                 for c in first..(first + SEGMENT).min(nx) {
                     let e = c - first;
                     let fe = |a: usize| Vector2::new(at(&segment, e, a, 0), at(&segment, e, a, 1));
@@ -692,11 +704,18 @@ mod tests {
         };
         for width in [Width::Four, Width::Eight] {
             let k = MappedStiffness::with_width(0.5 * h, d, nx, &shapes, width).unwrap();
+            let of = |first: usize| Segment {
+                row: 0,
+                first,
+                lower: &lower,
+                upper: &upper,
+                e0: 0,
+            };
             let mut portable = vec![f64::NAN; row_len(nx)];
             for first in (0..nx).step_by(SEGMENT) {
                 match &k.blocks {
-                    Blocks::Four(b) => segment_portable(&k, b, 0, first, &lower, &upper, &mut portable, 0),
-                    Blocks::Eight(b) => segment_portable(&k, b, 0, first, &lower, &upper, &mut portable, 0),
+                    Blocks::Four(b) => segment_portable(&k, b, &of(first), &mut portable),
+                    Blocks::Eight(b) => segment_portable(&k, b, &of(first), &mut portable),
                 }
             }
             let mut dispatched = vec![f64::NAN; row_len(nx)];
@@ -707,7 +726,7 @@ mod tests {
             );
             // a segment from element 8 on
             let mut part = vec![f64::NAN; row_len(nx)];
-            segment_forces(&k, 0, 8, &lower, &upper, &mut part, 0);
+            segment_forces(&k, &of(8), &mut part);
             let from_8 = |v: &[f64]| {
                 let stride = v.len() / 8;
                 (0..8)
