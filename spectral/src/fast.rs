@@ -176,14 +176,17 @@ fn modes_avx2((r, z, g, s, e, o): Task<'_>) {
     modes_kernel(r, z, g, s, e, o)
 }
 
-fn dispatch(isa: Isa, (r, z, g, s, e, o): Task<'_>) {
+fn dispatch(isa: Isa, task: Task<'_>) {
     match isa {
         // SAFETY: `Isa::detect` returned these only if the CPU reported the features at run time.
         #[cfg(target_arch = "x86_64")]
-        Isa::Avx512 => unsafe { modes_avx512((r, z, g, s, e, o)) },
+        Isa::Avx512 => unsafe { modes_avx512(task) },
         #[cfg(target_arch = "x86_64")]
-        Isa::Avx2 => unsafe { modes_avx2((r, z, g, s, e, o)) },
-        _ => modes_kernel(r, z, g, s, e, o),
+        Isa::Avx2 => unsafe { modes_avx2(task) },
+        _ => {
+            let (r, z, g, s, e, o) = task;
+            modes_kernel(r, z, g, s, e, o)
+        }
     }
 }
 

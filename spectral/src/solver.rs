@@ -279,8 +279,8 @@ fn solve_points(
             (reg_normal, in_contact, slipping, friction_on);
         (p.traction, p.v) = (traction, v);
         // written so that NaN fails it (a fold with f64::max would drop a NaN)
-        let finite = p.v.iter().all(|v| v.abs() <= model.v_limit);
-        if !finite && blown.is_none() {
+        let within = p.v.iter().all(|v| v.abs() <= model.v_limit);
+        if !within && blown.is_none() {
             blown = Some(first + i);
         }
     }

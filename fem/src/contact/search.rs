@@ -55,7 +55,7 @@ pub(crate) struct BucketGrid {
     built_segments: usize,
 }
 
-/// Skin of a kept grid, as a fraction of the search margin m [-]: the cells grow by 2 s = 0.2 m,
+/// Skin of a kept grid, as a fraction of the search margin m [-]: the cells grow by 2 s = 0.2 × m,
 /// and the grid is kept until a node of Γ_det has moved 0.9 s (about 0.1 h at the default
 /// d_max = h).
 const SKIN: f64 = 0.1;
@@ -90,7 +90,7 @@ impl BucketGrid {
 
     /// The grid for `segments` at positions `x`, whose nodes are `nodes` (each once): the grid of
     /// an earlier step is kept while it still lists every candidate the narrow phase can accept,
-    /// else it is rebuilt with a skin s = 0.1 m added to the margin m (a Verlet skin). Returns
+    /// else it is rebuilt with a skin s = 0.1 × m added to the margin m (a Verlet skin). Returns
     /// whether it was rebuilt.
     ///
     /// A kept grid is exact: every node of Γ_det has moved by at most d (in each coordinate)

@@ -246,7 +246,7 @@ fn the_regularised_pressure_starts_at_the_first_pressure_and_then_relaxes() {
 fn a_kept_grid_finds_what_a_fresh_grid_finds_while_the_faces_slide() {
     // The upper face (40 segments, pressed 2.4 µm in) slides 0.013 h a step over the lower one
     // and rocks by ±0.3 µm, for 3 h in all. `update` keeps its grid for several steps at a time
-    // (its skin is 0.1 m ≈ 0.1 h), a fresh `rebuild` follows every step: every slave must get the
+    // (its skin is 0.1 × m ≈ 0.1 h), a fresh `rebuild` follows every step: every slave must get the
     // same master, projection and lost flag from both, every step. A grid never rebuilt after
     // the first step misses masters from step 126 on; one rebuilt every step, or kept ten times
     // too long, fails the count of rebuilds. (The margin m = h is wide beside the 2.4 µm
