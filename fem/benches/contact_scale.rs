@@ -75,14 +75,9 @@ y = {{ kind = "displacement", initial = 0.0, final = {squeeze}, ramp_start = 0.0
     (toml, 2.0 * press)
 }
 
-/// Seconds of `phase` (as a lap, or beside the laps) in `after` minus `before`.
-fn seconds(before: &[PhaseTime], after: &[PhaseTime], phase: &str, beside: bool) -> f64 {
-    let of = |p: &[PhaseTime]| {
-        p.iter()
-            .filter(|t| t.phase == phase && t.beside == beside)
-            .map(|t| t.seconds)
-            .sum::<f64>()
-    };
+/// Seconds of the phase times that `keep` selects, in `after` minus `before`.
+fn seconds(before: &[PhaseTime], after: &[PhaseTime], keep: impl Fn(&PhaseTime) -> bool) -> f64 {
+    let of = |p: &[PhaseTime]| p.iter().filter(|t| keep(t)).map(|t| t.seconds).sum::<f64>();
     of(after) - of(before)
 }
 
@@ -105,15 +100,10 @@ fn bench_height(c: &mut Criterion, rows: usize) {
     g.finish();
     let after = ws.profile();
     let steps = (state.step_count() - steps_before) as f64;
-    let total: f64 = after.iter().filter(|p| !p.beside).map(|p| p.seconds).sum::<f64>()
-        - before
-            .iter()
-            .filter(|p| !p.beside)
-            .map(|p| p.seconds)
-            .sum::<f64>();
-    let lap = seconds(&before, &after, "contact", false);
-    let beside = seconds(&before, &after, "contact", true);
-    let bulk = seconds(&before, &after, "bulk forces", false);
+    let total = seconds(&before, &after, |t| !t.beside);
+    let lap = seconds(&before, &after, |t| t.phase == "contact" && !t.beside);
+    let beside = seconds(&before, &after, |t| t.phase == "contact" && t.beside);
+    let bulk = seconds(&before, &after, |t| t.phase == "bulk forces" && !t.beside);
     let (nodes, touching) = state.contact_nodes();
     let us = |s: f64| 1e6 * s / steps;
     // The bulk phase's wall time holds the sweep and the detection beside it (rayon::join): the
