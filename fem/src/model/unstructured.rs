@@ -26,9 +26,9 @@
 //! their gathers and scatters). A rigid translation gives exactly zero force.
 //!
 //! The kernel numbers the nodes in its own order when the mesh's numbering is far from local:
-//! reverse Cuthill–McKee, kept if it brings the two ends of an edge at least four times closer on
-//! average (Gmsh numbers the nodes of the curves before those of the surfaces); u and f then pass
-//! through buffers in that order. The nodes are cut, at build time, into tiles of consecutive
+//! reverse Cuthill–McKee, taken when more than 1 % of the mesh's edges join nodes over 1 024
+//! apart and the new order halves that count (Gmsh numbers the nodes of the curves before those
+//! of the surfaces); u and f then pass through buffers in that order. The nodes are cut, at build time, into tiles of consecutive
 //! nodes (in the kernel's order). A tile runs its nodes in order: each node first sums its edges from nodes of earlier tiles (recomputed there, as the
 //! other tile computes them too), then runs its own edges (b > a), adding to a and, if b is in the
 //! tile, to b. Every node's force is therefore summed in a fixed order set by the mesh and the
@@ -46,6 +46,14 @@ const MIN_TILE_NODES: usize = 256;
 
 /// Tiles per mesh aimed at, so that 2 threads balance.
 const TARGET_TILES: usize = 16;
+
+/// An edge is far when its ends are more than this many nodes apart in the kernel's order: their
+/// displacements are then more than 16 KiB apart, half the L1 data cache of common x86 cores, and
+/// the read of the far end tends to miss it ([`kernel_order`]).
+const FAR_EDGE: u32 = 1024;
+
+/// Largest share of far edges for which the kernel keeps the mesh's node order ([`kernel_order`]).
+const FAR_EDGE_SHARE: f64 = 0.01;
 
 /// Nodes per rayon task of the copies into and out of the kernel's node order.
 const COPY_CHUNK: usize = 4096;
@@ -460,39 +468,46 @@ fn sum_edges(mut entries: Vec<EdgeBlock>) -> Vec<EdgeBlock> {
     pairs
 }
 
-/// The kernel's node order (order, rank), both empty for the mesh's own: the mesh's, unless
-/// reverse Cuthill–McKee brings the two ends of an edge at least four times as close on average
-/// (Gmsh numbers the nodes of the curves first, then those of the surfaces, so an interface node's
-/// neighbours are far from it: 0.068 on center-crack-tri's mesh; a grid numbered row by row: 0.42
-/// with triangles, 0.58 with quadrangles, where the copies into the kernel's order would cost
-/// more). With the new order the edges are renumbered with a < b, the block transposed where the
-/// ends swap (K_ba = K_abᵀ).
+/// The kernel's node order (order, rank), both empty for the mesh's own. What the order buys is
+/// locality: an edge whose ends are close in the order reads u_b from a cache line read a moment
+/// before. What it costs is the two copies into and out of that order at every evaluation, each a
+/// gather through a permutation. So the mesh's own order is kept unless more than
+/// [`FAR_EDGE_SHARE`] of its edges join nodes more than [`FAR_EDGE`] apart and reverse
+/// Cuthill–McKee halves that count. Gmsh numbers the nodes of the curves first, then those of the
+/// surfaces: on center-crack-tri's mesh 57 % of the edges are far, none after the reordering. A
+/// grid numbered row by row has none, but the twins that splitting its interface appends at the
+/// end (0.3 % of the edges of the centre crack's grid as a Gmsh mesh): there the copies would cost
+/// more than those few edges (docs/performance.md, "Unstructured bulk kernel"). With the new order the edges are renumbered with
+/// a < b, the block transposed where the ends swap (K_ba = K_abᵀ).
 fn kernel_order(nn: usize, pairs: &mut [EdgeBlock]) -> (Vec<u32>, Vec<u32>) {
-    let spread = |pairs: &[EdgeBlock], rank: &dyn Fn(u32) -> u32| {
+    let far = |pairs: &[EdgeBlock], rank: &dyn Fn(u32) -> u32| {
         pairs
             .iter()
-            .map(|&(a, b, _)| rank(a).abs_diff(rank(b)) as f64)
-            .sum::<f64>()
+            .filter(|&&(a, b, _)| rank(a).abs_diff(rank(b)) > FAR_EDGE)
+            .count()
     };
+    let far_in_mesh = far(pairs, &|n| n);
+    if far_in_mesh as f64 <= FAR_EDGE_SHARE * pairs.len() as f64 {
+        return (Vec::new(), Vec::new());
+    }
     let cm = reverse_cuthill_mckee(nn, pairs);
     let mut rank = vec![0u32; nn];
     for (new, &old) in cm.iter().enumerate() {
         rank[old as usize] = new as u32;
     }
-    if spread(pairs, &|n| rank[n as usize]) < 0.25 * spread(pairs, &|n| n) {
-        for (a, b, k) in pairs.iter_mut() {
-            let (ra, rb) = (rank[*a as usize], rank[*b as usize]);
-            if ra < rb {
-                (*a, *b) = (ra, rb);
-            } else {
-                (*a, *b, *k) = (rb, ra, [k[0], k[2], k[1], k[3]]);
-            }
-        }
-        pairs.sort_unstable_by_key(|&(a, b, _)| (a, b));
-        (cm, rank)
-    } else {
-        (Vec::new(), Vec::new())
+    if 2 * far(pairs, &|n| rank[n as usize]) >= far_in_mesh {
+        return (Vec::new(), Vec::new());
     }
+    for (a, b, k) in pairs.iter_mut() {
+        let (ra, rb) = (rank[*a as usize], rank[*b as usize]);
+        if ra < rb {
+            (*a, *b) = (ra, rb);
+        } else {
+            (*a, *b, *k) = (rb, ra, [k[0], k[2], k[1], k[3]]);
+        }
+    }
+    pairs.sort_unstable_by_key(|&(a, b, _)| (a, b));
+    (cm, rank)
 }
 
 /// Tiles of consecutive nodes ([first, end) each), and each node's edges from earlier tiles as a

@@ -507,3 +507,66 @@ fn a_uniform_stress_crosses_two_materials_exactly() {
     assert!((left - p * 0.06).abs() <= tol, "{left}");
     assert!((right + p * 0.06).abs() <= tol, "{right}");
 }
+
+/// The node pairs of a grid of `nx` × `ny` Q4 numbered row by row, with node row `ny / 2` split
+/// as an interface is: the elements above it take twins of its nodes, numbered after all others.
+fn twinned_grid_pairs(nx: usize, ny: usize) -> (usize, Vec<EdgeBlock>) {
+    let w = nx + 1;
+    let grid_nodes = w * (ny + 1);
+    let (j0, twin) = (ny / 2, |i: usize| (grid_nodes + i) as u32);
+    let mut pairs = Vec::new();
+    for j in 0..ny {
+        for i in 0..nx {
+            let node = |i: usize, jj: usize| {
+                if jj == j0 && j == j0 {
+                    twin(i)
+                } else {
+                    (jj * w + i) as u32
+                }
+            };
+            let c = [node(i, j), node(i + 1, j), node(i + 1, j + 1), node(i, j + 1)];
+            for a in 0..4 {
+                for b in a + 1..4 {
+                    pairs.push((c[a].min(c[b]), c[a].max(c[b]), [0.0; 4]));
+                }
+            }
+        }
+    }
+    pairs.sort_by_key(|&(a, b, _)| (a, b));
+    pairs.dedup_by_key(|p| (p.0, p.1));
+    (grid_nodes + w, pairs)
+}
+
+/// A grid numbered row by row keeps its order even with an interface's twins numbered last (a
+/// few far edges: the copies into another order would cost more than they save); the same grid
+/// numbered at random takes reverse Cuthill–McKee, whose edges are then all near.
+#[test]
+fn a_row_numbered_grid_keeps_its_order_and_a_scrambled_one_is_reordered() {
+    let (nn, mut pairs) = twinned_grid_pairs(200, 100);
+    let far = pairs.iter().filter(|p| p.1 - p.0 > FAR_EDGE).count();
+    assert!(
+        far > 0 && far as f64 <= FAR_EDGE_SHARE * pairs.len() as f64,
+        "{far} far edges"
+    );
+    let (order, rank) = kernel_order(nn, &mut pairs);
+    assert!(order.is_empty() && rank.is_empty());
+    // the same graph under a scrambled numbering (a multiplicative permutation of 0..nn)
+    let (nn, pairs) = twinned_grid_pairs(200, 100);
+    let step = 7919; // prime, not a factor of nn
+    assert_ne!(nn % step, 0);
+    let scramble = |n: u32| ((n as usize * step) % nn) as u32;
+    let mut scrambled: Vec<EdgeBlock> = pairs
+        .iter()
+        .map(|&(a, b, k)| {
+            let (a, b) = (scramble(a), scramble(b));
+            (a.min(b), a.max(b), k)
+        })
+        .collect();
+    scrambled.sort_by_key(|&(a, b, _)| (a, b));
+    let (order, rank) = kernel_order(nn, &mut scrambled);
+    assert_eq!(order.len(), nn);
+    for (new, &old) in order.iter().enumerate() {
+        assert_eq!(rank[old as usize], new as u32);
+    }
+    assert!(scrambled.iter().all(|p| p.0 < p.1 && p.1 - p.0 <= FAR_EDGE));
+}
