@@ -28,8 +28,8 @@
 //! The kernel numbers the nodes in its own order when the mesh's numbering is far from local:
 //! reverse Cuthill–McKee, taken when more than 1 % of the mesh's edges join nodes over 1 024
 //! apart and the new order halves that count (Gmsh numbers the nodes of the curves before those
-//! of the surfaces); u and f then pass through buffers in that order. The nodes are cut, at build time, into tiles of consecutive
-//! nodes (in the kernel's order). A tile runs its nodes in order: each node first sums its edges from nodes of earlier tiles (recomputed there, as the
+//! of the surfaces); u and f then pass through buffers in that order. The nodes are cut, at build
+//! time, into tiles of consecutive nodes (in the kernel's order). A tile runs its nodes in order: each node first sums its edges from nodes of earlier tiles (recomputed there, as the
 //! other tile computes them too), then runs its own edges (b > a), adding to a and, if b is in the
 //! tile, to b. Every node's force is therefore summed in a fixed order set by the mesh and the
 //! tiles, not by the threads; tiles run in parallel and write disjoint node ranges, so the result
@@ -477,8 +477,9 @@ fn sum_edges(mut entries: Vec<EdgeBlock>) -> Vec<EdgeBlock> {
 /// surfaces: on center-crack-tri's mesh 57 % of the edges are far, none after the reordering. A
 /// grid numbered row by row has none, but the twins that splitting its interface appends at the
 /// end (0.3 % of the edges of the centre crack's grid as a Gmsh mesh): there the copies would cost
-/// more than those few edges (docs/performance.md, "Unstructured bulk kernel"). With the new order the edges are renumbered with
-/// a < b, the block transposed where the ends swap (K_ba = K_abᵀ).
+/// more than those few edges (docs/performance.md, "Every mesh kind side by side"). With the new
+/// order the edges are renumbered with a < b, the block transposed where the ends swap
+/// (K_ba = K_abᵀ).
 fn kernel_order(nn: usize, pairs: &mut [EdgeBlock]) -> (Vec<u32>, Vec<u32>) {
     let far = |pairs: &[EdgeBlock], rank: &dyn Fn(u32) -> u32| {
         pairs
