@@ -230,6 +230,12 @@ impl<'a> Snapshots<'a> {
         }
     }
 
+    /// Whether a snapshot is due after step `n`.
+    #[inline]
+    pub(crate) fn due(&self, n: u64) -> bool {
+        self.every > 0 && n.is_multiple_of(self.every)
+    }
+
     /// Takes the snapshot of `state` if its step is due. False once the sink has failed (the
     /// run then stops). When off, one compare per step and nothing else.
     #[inline]

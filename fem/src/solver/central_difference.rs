@@ -22,7 +22,9 @@ pub struct Blowup {
     pub node: usize,
 }
 
-/// Advances the state by one step Δt. `sample`: also compute the strain energy into the workspace.
+/// Advances the state by one step Δt. `sample`: the state is read after this step (records, a
+/// snapshot, the end of a run): also compute the strain energy into the workspace, and leave every
+/// node at t_{n+1} (an unsampled step may move some on by the next step's predictor).
 pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) -> Result<(), Blowup> {
     let dt = model.dt;
     let t1 = state.t + dt;

@@ -25,7 +25,7 @@ pub fn run(scene: &Scene) -> Result<RunOutput, RunError> {
 }
 
 /// As [`run`]; `progress(steps_done, total_steps)` is called at most a few hundred times, and the
-/// run stops after the step during which `stop` is raised (e.g. by Ctrl-C) with
+/// run stops after the first step that begins once `stop` is raised (e.g. by Ctrl-C), with
 /// `RunError::Interrupted` and everything recorded so far.
 pub fn run_with_progress(
     scene: &Scene,
@@ -142,16 +142,21 @@ pub fn run_checkpointed(
         // worker's own deque instead of injecting jobs from outside (which allocates).
         let failed = rayon::scope(|_| {
             for n in done + 1..=end {
-                let sample = n % every == 0 || n == total;
+                let record = n % every == 0 || n == total;
+                // A step whose state is read after it (by the records, a snapshot, or the end of
+                // a stopped run) leaves every node at t_{n+1}: an unsampled step may already
+                // have moved the bulk on by the next step's predictor.
+                let stopping = stop.load(Ordering::Relaxed);
+                let sample = record || snapshots.due(n) || stopping;
                 if let Err(b) = step(&model, &mut state, &mut ws, sample) {
                     return Some(Err(b));
                 }
-                if sample {
+                if record {
                     ws.clock.start();
                     Recorder { out: &mut out }.observe(&model, &state, &ws);
                     ws.clock.lap(Phase::Diagnostics);
                 }
-                if !snapshots.after_step(&model, &state) || stop.load(Ordering::Relaxed) {
+                if !snapshots.after_step(&model, &state) || stopping {
                     return Some(Ok(()));
                 }
             }
@@ -273,5 +278,85 @@ mod tests {
         );
         let out = super::run(&scene).expect("mapped run stays stable");
         assert!(out.steps > 600);
+    }
+
+    /// The displacements and velocities of every snapshot a run of `text` takes, the run being
+    /// asked to stop once `stop_at` steps are reported done.
+    fn snapshot_states(text: &str, stop_at: u64) -> Vec<(u64, Vec<f64>)> {
+        use crate::records::fields::{FieldSink, FieldSnapshot, FieldValues};
+        struct Keep(Vec<(u64, Vec<f64>)>);
+        impl FieldSink for Keep {
+            fn snapshot(&mut self, s: FieldSnapshot) -> std::io::Result<()> {
+                let mut all = Vec::new();
+                for name in ["displacement", "velocity"] {
+                    match s.bulk.point_array(name) {
+                        Some(FieldValues::Vectors(v)) => all.extend(v.iter().flatten()),
+                        other => panic!("{name}: {other:?}"),
+                    }
+                }
+                self.0.push((s.step, all));
+                Ok(())
+            }
+        }
+        let scene = Scene::from_toml_str(text).unwrap();
+        let mut keep = Keep(Vec::new());
+        let stop = std::sync::atomic::AtomicBool::new(false);
+        let mut progress = |done, _| {
+            if done >= stop_at {
+                stop.store(true, std::sync::atomic::Ordering::Relaxed);
+            }
+        };
+        let ended = super::run_with_fields(&scene, &mut progress, &stop, Some(&mut keep));
+        assert_eq!(ended.is_ok(), stop_at == u64::MAX);
+        keep.0
+    }
+
+    /// The tiny centre crack with its records every 10th step and a snapshot every 7th, and the
+    /// same run with its records and snapshots at every step (whose steps are never fused).
+    fn sparse_and_dense() -> (String, String) {
+        let text = scene_text("tiny-fem-center-crack");
+        let dt = Scene::from_toml_str(&text).unwrap().time_step();
+        let with = |output: f64, snapshot: f64| {
+            let text = text.replace("output_interval = 1e-5", &format!("output_interval = {output:e}"));
+            format!("{text}\n[fem.paraview]\ninterval = {snapshot:e}\n")
+        };
+        (with(10.0 * dt, 7.0 * dt), with(dt, dt))
+    }
+
+    /// A snapshot between two samples shows the state of its step, as one on a sampled step does:
+    /// the fused corrector-predictor of an unsampled step must not leave the bulk nodes a step
+    /// ahead where a snapshot reads them. Every snapshot has the bits of the run sampled at every
+    /// step.
+    #[test]
+    fn snapshots_between_samples_show_the_state_of_their_step() {
+        let (sparse, dense) = sparse_and_dense();
+        let (sparse, dense) = (
+            snapshot_states(&sparse, u64::MAX),
+            snapshot_states(&dense, u64::MAX),
+        );
+        assert!(sparse.len() > 10, "{} snapshots", sparse.len());
+        for (step, fields) in &sparse {
+            let same = dense
+                .iter()
+                .find(|(s, _)| s == step)
+                .expect("the dense run snapshots every step");
+            assert!(*fields == same.1, "snapshot of step {step} differs");
+        }
+    }
+
+    /// A run stopped on request ends on the state of its last step: its last snapshot has the bits
+    /// of the run sampled at every step, though the step it stops at is not a sampled one.
+    #[test]
+    fn a_stopped_run_ends_on_the_state_of_its_last_step() {
+        let (sparse, dense) = sparse_and_dense();
+        let stopped = snapshot_states(&sparse, 100);
+        let (step, fields) = stopped.last().unwrap();
+        assert!(
+            *step > 100 && step % 10 != 0 && step % 7 != 0,
+            "stopped at step {step}"
+        );
+        let dense = snapshot_states(&dense, u64::MAX);
+        let same = dense.iter().find(|(s, _)| s == step).unwrap();
+        assert!(*fields == same.1, "last snapshot, of step {step}, differs");
     }
 }
