@@ -7,8 +7,8 @@
 //! - the centre crack's grid written to MSH (`fem::grid_as_msh`) and read back as a Gmsh mesh: the
 //!   same 125 000 squares as the first, through the unstructured Q4 edge kernel.
 //!
-//! Bulk forces, cohesive law, contact, boundary, the corrector (fused with the next predictor on
-//! the grids) and the insertion check. Each state is first advanced through 0.46 T (faces pressed
+//! Bulk forces, cohesive law, contact, boundary, the corrector (fused with the next predictor away
+//! from the interface) and the insertion check. Each state is first advanced through 0.46 T (faces pressed
 //! and slipping, the crack running), and keeps advancing while measured; no step of the run is
 //! sampled.
 

@@ -239,6 +239,10 @@ pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State,
         .iter()
         .map(|p| nearest_node(&x0, Vector2::new(p[0], p[1])) as u32)
         .collect();
+    let chunk = match &mesh {
+        BulkMesh::Grid { grid, .. } => grid.nx + 1,
+        BulkMesh::Gmsh(_) => crate::model::layers::CHUNK,
+    };
     let mut model = Model {
         bulk: Bulk {
             mesh,
@@ -246,6 +250,8 @@ pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State,
             element_material,
             mass,
             deferred,
+            chunk,
+            apart: Vec::new(),
             x0,
         },
         interface: interface(scene, iface),
@@ -279,6 +285,8 @@ pub(crate) fn assemble(scene: &Scene, parts: MeshParts) -> Result<(Model, State,
             .fold(0.0, f64::max),
     };
     model.interface.facet_faces = facet_faces(&model);
+    model.bulk.apart =
+        crate::model::layers::apart_chunks(model.num_nodes(), model.bulk.chunk, model.interface.row.as_ref());
     let state = initial_state(&model);
     let ws = workspace(&model);
     Ok((model, state, ws))
@@ -483,7 +491,7 @@ fn workspace(model: &Model) -> Workspace {
         predicted: false,
         sweep: match model.grid() {
             Some(grid) => crate::model::layers::SweepBuffers::new(grid),
-            None => crate::model::layers::SweepBuffers::none(n.div_ceil(crate::model::layers::CHUNK)),
+            None => crate::model::layers::SweepBuffers::none(model.bulk.apart.len()),
         },
     }
 }

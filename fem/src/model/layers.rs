@@ -1,6 +1,8 @@
-//! Which node layers the one-pass sweep of unsampled steps (`solver::sweep`) may advance, and
-//! its scratch, allocated with the model.
+//! Which node layers the one-pass sweep of unsampled steps (`solver::sweep`) may advance, which
+//! chunks of nodes the corrector may fuse with the next predictor, and the sweep's scratch,
+//! allocated with the model.
 
+use crate::mesh::interfaces::InterfaceRow;
 use crate::mesh::structured::{Grid, LayerSide};
 
 /// Layers per band: 16 bands on the paper's centre crack (252 layers), enough for any core count
@@ -9,6 +11,21 @@ pub(crate) const BAND: usize = 16;
 
 /// Nodes per chunk of the corrector on a Gmsh mesh (the grid's chunks are its layers).
 pub(crate) const CHUNK: usize = 1024;
+
+/// Per chunk of the corrector (`width` nodes, the last
+/// one possibly shorter): whether it holds a node of the interface row. Such a chunk keeps its
+/// corrector and the next step's predictor as two passes, since the velocity damping and the
+/// next step's first reads (the row's displacements, kept for the friction's slip) see the row's
+/// state between the two; every other chunk may take both in one pass on unsampled steps.
+pub(crate) fn apart_chunks(num_nodes: usize, width: usize, row: Option<&InterfaceRow>) -> Vec<bool> {
+    let mut apart = vec![false; num_nodes.div_ceil(width)];
+    if let Some(row) = row {
+        for &n in row.minus.iter().chain(&row.plus) {
+            apart[n as usize / width] = true;
+        }
+    }
+    apart
+}
 
 /// Layers whose nodes must keep u_{n+1}, v_{n+1} until after contact and insertion: the two
 /// layers of the interface and their neighbours (the insertion check reads the stresses of the

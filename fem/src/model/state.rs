@@ -139,6 +139,11 @@ pub(crate) struct Bulk {
     /// Per layer of the grid: kept out of the one-pass sweep of unsampled steps
     /// (`solver::sweep`); empty on a Gmsh mesh.
     pub deferred: Vec<bool>,
+    /// Nodes per chunk of the corrector: a grid's node layer, else [`crate::model::layers::CHUNK`].
+    pub chunk: usize,
+    /// Per chunk of the corrector: holds an interface node, so its corrector and the next step's
+    /// predictor stay two passes (`model::layers::apart_chunks`).
+    pub apart: Vec<bool>,
 }
 
 /// The interface row and what acts on it (paper §2: extrinsic cohesive elements, eqs. 2–3, and
@@ -287,7 +292,7 @@ pub(crate) struct Facets {
 }
 
 /// Accumulated energies [J/m].
-#[derive(Debug, Clone, Copy, Default, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub(crate) struct EnergyTotals {
     pub boundary_work: f64,
     pub cohesive_total: f64,
