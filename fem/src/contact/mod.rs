@@ -289,15 +289,24 @@ pub(crate) fn resolve(
     let (history, regularized, touched) = (&state.history, &state.regularized_pressure, &state.touched);
     nodes
         .par_iter()
+        .enumerate()
         .with_min_len(1024)
-        .map(|&node| {
+        .map(|(k, &node)| {
             let i = node as usize;
             let slave = Slave {
                 node,
                 tied: tied_of(tied_twin, i),
                 normal: normal[i],
             };
-            let (found, lost) = closest_master_or_depth(&slave, grid, segments, frames, x, &limits);
+            // the slave's list holds every master it can take; a slave without one reads its
+            // cell, whose wider reach tells whether a master lies deeper than d_max (lost)
+            let (candidates, listed) = grid.candidates_of(k, x[i]);
+            let (mut found, mut lost) =
+                closest_master_or_depth(&slave, candidates, segments, frames, x, &limits);
+            if found.is_none() && listed {
+                let cell = grid.candidates(x[i]);
+                (found, lost) = closest_master_or_depth(&slave, cell, segments, frames, x, &limits);
+            }
             found.map_or(Detected::Lost(lost), |(e, proj)| {
                 let segment = segments[e as usize];
                 let law = if frictionless_law(i) { &no_friction } else { &law };

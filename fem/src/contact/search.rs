@@ -53,12 +53,33 @@ pub(crate) struct BucketGrid {
     anchor: Vec<Vector2<f64>>,
     /// Number of segments at the last rebuild.
     built_segments: usize,
+    /// Margin [m] the boxes of the last rebuild were inflated by: m + 2 s.
+    margin: f64,
+    /// Start of each node's candidates in `listed`, in the order of the node list of the last
+    /// rebuild by `update`; length nodes + 1 (empty after `rebuild`).
+    list_start: Vec<u32>,
+    /// Per node, the segments whose box at the rebuild, inflated by m + 2 s, held the node (a
+    /// Verlet list: [`BucketGrid::update`]).
+    listed: Vec<u32>,
+    /// Steps the grid has been kept since its rebuild.
+    kept: usize,
 }
 
-/// Skin of a kept grid, as a fraction of the search margin m [-]: the cells grow by 2 s = 0.2 × m,
+/// Skin of a kept grid, as a fraction of the search margin m [-]: the boxes grow by 2 s = 0.2 × m,
 /// and the grid is kept until a node of Γ_det has moved 0.9 s (about 0.1 h at the default
 /// d_max = h).
 const SKIN: f64 = 0.1;
+
+/// When the nodes get their lists [-]. Building them costs about one narrow phase and saves a
+/// part of each later one, so a grid rebuilt because Γ_det grew (by a facet every few steps behind
+/// a running crack) goes without them, one rebuilt because a node outran the skin gets them, and
+/// one kept this many steps without them is rebuilt once more, with them.
+const LIST_AFTER: usize = 32;
+
+/// Candidates a node's list is given room for at construction [-]: on an interface a node's box of
+/// half-width m + 2 s ≈ 1.2 h meets about three segments of each face; a list that outgrows this
+/// grows once.
+const LISTED_PER_NODE: usize = 12;
 
 /// Bounding box of one segment, inflated by the search margin [m].
 fn inflated_box(a: Vector2<f64>, b: Vector2<f64>, margin: f64) -> (Vector2<f64>, Vector2<f64>) {
@@ -85,23 +106,30 @@ impl BucketGrid {
             skin: 0.0,
             anchor: Vec::with_capacity(2 * max_segments.max(1)),
             built_segments: usize::MAX,
+            margin: 0.0,
+            kept: 0,
+            list_start: Vec::with_capacity(2 * max_segments.max(1) + 1),
+            listed: Vec::with_capacity(LISTED_PER_NODE * 2 * max_segments.max(1)),
         }
     }
 
-    /// The grid for `segments` at positions `x`, whose nodes are `nodes` (each once): the grid of
-    /// an earlier step is kept while it still lists every candidate the narrow phase can accept,
-    /// else it is rebuilt with a skin s = 0.1 × m added to the margin m (a Verlet skin). Returns
-    /// whether it was rebuilt.
+    /// The grid for `segments` at positions `x`, whose nodes are `nodes` (each once), and each
+    /// node's list of candidates ([`BucketGrid::listed`]): the grid and lists of an earlier step
+    /// are kept while they still hold every candidate the narrow phase can accept, else they are
+    /// rebuilt with a skin s = 0.1 × m (a Verlet skin): the boxes are inflated by m + 2 s, and a
+    /// node's list holds the segments whose box holds the node. Returns whether they were rebuilt.
     ///
-    /// A kept grid is exact: every node of Γ_det has moved by at most d (in each coordinate)
+    /// Kept lists are exact: every node of Γ_det has moved by at most d (in each coordinate)
     /// since the rebuild, so a segment's box inflated by the current margin lies inside its box
     /// at the rebuild inflated by m + d + √2 ε_ext d (the ends move by d, the length by at most
-    /// 2√2 d), which the grid holds while d (1 + 1.5 ε_ext) ≤ s; a slave inside the current box
-    /// is in a cell that lists the segment. The narrow phase then finds the same closest master
-    /// as on a fresh grid: the candidates it rejects only add work. (Whether a slave counts as
-    /// lost to the detection distance depends, on any grid, on which cells list a master deeper
-    /// than d_max, outside the box: a kept grid may count such a slave where a fresh one would
-    /// not. It never changes a force.) The grid is rebuilt once d reaches 0.9 s (floating-point
+    /// 2√2 d), that is within m + s while d (1 + 1.5 ε_ext) ≤ s; a slave inside the current box
+    /// was, at the rebuild, within d of it, so inside the box inflated by m + 2 s, and its list
+    /// holds the segment. The narrow phase then finds the same closest master as from a fresh
+    /// grid: the candidates it rejects only add work. (Whether a slave counts as lost to the
+    /// detection distance depends on which cells list a master deeper than d_max, outside the
+    /// box: a kept grid may count such a slave where a fresh one would not. It never changes a
+    /// force; a slave whose list gives no master therefore reads its cell, which reaches a cell
+    /// width, about 3 h, around it.) They are rebuilt once d reaches 0.9 s (floating-point
     /// slack), when segments were added, or when a position is not finite.
     pub(crate) fn update(
         &mut self,
@@ -113,6 +141,8 @@ impl BucketGrid {
     ) -> bool {
         let comparable =
             self.nx > 0 && segments.len() == self.built_segments && nodes.len() == self.anchor.len();
+        // lists when the nodes outran the skin or the grid lasted, not when Γ_det grew
+        let mut outran = false;
         if comparable {
             // the largest move, exact in any order (a NaN counts as infinite)
             let moved = nodes
@@ -126,14 +156,62 @@ impl BucketGrid {
                 })
                 .reduce(|| 0.0, f64::max);
             if moved * (1.0 + 1.5 * projection_tolerance) <= 0.9 * self.skin {
-                return false;
+                self.kept += 1;
+                // a grid that lasts is rebuilt once more, with the lists
+                if self.kept < LIST_AFTER || !self.list_start.is_empty() {
+                    return false;
+                }
+            } else {
+                outran = true;
             }
         }
+        let lists = outran || self.kept >= LIST_AFTER;
+        self.kept = 0;
         self.build(segments, x, max_gap, projection_tolerance, SKIN);
         self.anchor.clear(); // keeps the capacity
         self.anchor.extend(nodes.iter().map(|&i| x[i as usize]));
         self.built_segments = segments.len();
+        if lists {
+            self.list(segments, nodes, x);
+        } else {
+            self.list_start.clear();
+            self.listed.clear();
+        }
         true
+    }
+
+    /// Each node's candidates: the segments of its cell whose box, inflated by the margin of the
+    /// rebuild, holds the node, in increasing index (the cell's order).
+    fn list(&mut self, segments: &[[u32; 2]], nodes: &[u32], x: &[Vector2<f64>]) {
+        let (mut start, mut listed) = (
+            std::mem::take(&mut self.list_start),
+            std::mem::take(&mut self.listed),
+        );
+        start.clear();
+        listed.clear();
+        start.push(0);
+        for &i in nodes {
+            let p = x[i as usize];
+            for &e in self.candidates(p) {
+                let [a, b] = segments[e as usize];
+                let (lo, hi) = inflated_box(x[a as usize], x[b as usize], self.margin);
+                if lo.x <= p.x && p.x <= hi.x && lo.y <= p.y && p.y <= hi.y {
+                    listed.push(e);
+                }
+            }
+            start.push(listed.len() as u32);
+        }
+        (self.list_start, self.listed) = (start, listed);
+    }
+
+    /// The candidates of the k-th node of the node list given to the last [`BucketGrid::update`],
+    /// at `p`: its list, or without lists the segments of its cell. Whether they came from a list.
+    #[inline]
+    pub(crate) fn candidates_of(&self, k: usize, p: Vector2<f64>) -> (&[u32], bool) {
+        match self.list_start.get(k + 1) {
+            Some(&end) => (&self.listed[self.list_start[k] as usize..end as usize], true),
+            None => (self.candidates(p), false),
+        }
     }
 
     /// Rebuilds the grid for `segments` at positions `x`, without skin. `max_gap` is d_max [m];
@@ -149,10 +227,13 @@ impl BucketGrid {
     ) {
         self.build(segments, x, max_gap, projection_tolerance, 0.0);
         self.anchor.clear();
+        self.kept = 0;
+        self.list_start.clear();
+        self.listed.clear();
         self.built_segments = usize::MAX;
     }
 
-    /// The rebuild, with the margin m (1 + `skin`) [m].
+    /// The rebuild, with the margin m (1 + 2 `skin`) [m].
     fn build(
         &mut self,
         segments: &[[u32; 2]],
@@ -164,6 +245,7 @@ impl BucketGrid {
         self.num_entries = 0;
         self.nx = 0;
         self.ny = 0;
+        self.margin = 0.0;
         if segments.is_empty() {
             return;
         }
@@ -194,7 +276,8 @@ impl BucketGrid {
             );
         let bare = max_gap + 0.5 * projection_tolerance * l_max;
         self.skin = skin * bare;
-        let margin = bare + self.skin;
+        let margin = bare + 2.0 * self.skin;
+        self.margin = margin;
         let finite = lo.iter().chain(hi.iter()).all(|v| v.is_finite()) && margin.is_finite();
         if !finite {
             return;
@@ -296,12 +379,14 @@ impl BucketGrid {
     /// Capacities of the flat arrays, the cell ranges and the anchor positions (for the
     /// no-allocation tests).
     #[cfg(test)]
-    pub(crate) fn capacities(&self) -> [usize; 4] {
+    pub(crate) fn capacities(&self) -> [usize; 6] {
         [
             self.cell_start.capacity(),
             self.entries.capacity(),
             self.ranges.capacity(),
             self.anchor.capacity(),
+            self.list_start.capacity(),
+            self.listed.capacity(),
         ]
     }
 }
@@ -348,14 +433,16 @@ pub(crate) fn closest_master(
     x: &[Vector2<f64>],
     limits: &Limits,
 ) -> Option<(u32, Projection)> {
-    closest_master_or_depth(slave, grid, segments, frames, x, limits).0
+    let candidates = grid.candidates(x[slave.node as usize]);
+    closest_master_or_depth(slave, candidates, segments, frames, x, limits).0
 }
 
-/// As [`closest_master`], and whether a facing candidate within the projection tolerance was
-/// rejected only because its penetration exceeds d_max: a contact lost to the detection distance.
+/// As [`closest_master`] among `candidates` (the slave's list, [`BucketGrid::listed`], or its
+/// cell's segments), and whether a facing candidate within the projection tolerance was rejected
+/// only because its penetration exceeds d_max: a contact lost to the detection distance.
 pub(crate) fn closest_master_or_depth(
     slave: &Slave,
-    grid: &BucketGrid,
+    candidates: &[u32],
     segments: &[[u32; 2]],
     frames: &[Option<SegmentFrame>],
     x: &[Vector2<f64>],
@@ -366,7 +453,7 @@ pub(crate) fn closest_master_or_depth(
     let mut best: Option<(u32, Projection)> = None;
     let mut too_deep = false;
     let tied = slave.tied.iter().any(|&t| t != u32::MAX);
-    for &e in grid.candidates(x_i) {
+    for &e in candidates {
         // Every test before the depth check only rejects, so their order does not change the
         // result; the cheapest come first. Not facing rejects the slave's own face (about half
         // of the candidates on an interface) from the frame alone, before any node is read.

@@ -245,9 +245,10 @@ fn the_regularised_pressure_starts_at_the_first_pressure_and_then_relaxes() {
 #[test]
 fn a_kept_grid_finds_what_a_fresh_grid_finds_while_the_faces_slide() {
     // The upper face (40 segments, pressed 2.4 µm in) slides 0.013 h a step over the lower one
-    // and rocks by ±0.3 µm, for 3 h in all. `update` keeps its grid for several steps at a time
-    // (its skin is 0.1 × m ≈ 0.1 h), a fresh `rebuild` follows every step: every slave must get the
-    // same master, projection and lost flag from both, every step. A grid never rebuilt after
+    // and rocks by ±0.3 µm, for 3 h in all. `update` keeps its grid and lists for several steps at
+    // a time (its skin is 0.1 × m ≈ 0.1 h), a fresh `rebuild` follows every step: every slave must
+    // get the same master, projection and lost flag from its kept list as from its fresh cell,
+    // every step. A grid never rebuilt after
     // the first step misses masters from step 126 on; one rebuilt every step, or kept ten times
     // too long, fails the count of rebuilds. (The margin m = h is wide beside the 2.4 µm
     // penetration, so a skin left out of the margin is not caught here.)
@@ -262,21 +263,24 @@ fn a_kept_grid_finds_what_a_fresh_grid_finds_while_the_faces_slide() {
         BucketGrid::with_capacity(segments.len()),
         BucketGrid::with_capacity(segments.len()),
     );
-    let (mut rebuilds, mut contacts) = (0, 0);
+    let (mut rebuilds, mut contacts, mut lists) = (0, 0, 0);
     let steps = 230;
     for step in 0..steps {
         rebuilds += usize::from(kept.update(&segments, &nodes, &c.x, H, 1e-3));
         fresh.rebuild(&segments, &c.x, H, 1e-3);
         let frames = frames_of(&segments, &c.x);
-        for &i in &nodes {
+        for (k, &i) in nodes.iter().enumerate() {
             let lower = c.lower.contains(&i);
             let slave = Slave {
                 node: i,
                 tied: super::search::UNTIED,
                 normal: Vector2::new(0.0, if lower { 1.0 } else { -1.0 }),
             };
-            let a = closest_master_or_depth(&slave, &kept, &segments, &frames, &c.x, &limits);
-            let b = closest_master_or_depth(&slave, &fresh, &segments, &frames, &c.x, &limits);
+            let (listed, from_list) = kept.candidates_of(k, c.x[i as usize]);
+            lists += usize::from(from_list);
+            let a = closest_master_or_depth(&slave, listed, &segments, &frames, &c.x, &limits);
+            let cell = fresh.candidates(c.x[i as usize]);
+            let b = closest_master_or_depth(&slave, cell, &segments, &frames, &c.x, &limits);
             assert_eq!(a, b, "step {step}, node {i}");
             contacts += usize::from(a.0.is_some());
         }
@@ -287,7 +291,65 @@ fn a_kept_grid_finds_what_a_fresh_grid_finds_while_the_faces_slide() {
     }
     assert!(contacts > 20 * steps, "the faces must touch: {contacts} contacts");
     assert!(
+        lists > 40 * steps / 2,
+        "the lists must be used: {lists} of {}",
+        82 * steps
+    );
+    assert!(
         (10..steps / 4).contains(&rebuilds),
         "the grid must be kept for several steps and rebuilt as the face slides: {rebuilds} rebuilds"
+    );
+}
+
+#[test]
+fn a_kept_list_holds_a_master_that_comes_within_the_detection_distance() {
+    // The upper face starts 1.05 h into the lower one, deeper than d_max = h: no master. Kept
+    // there until the grid is rebuilt with its lists (32 steps), it then rises by 0.005 h a step,
+    // within the skin (0.1 × m ≈ 0.1 h) for many steps, and its nodes come within d_max of the
+    // lower face.
+    // Each slave's list must give the master that a fresh grid's cell gives: a list whose boxes
+    // left out the skin (inflated by m, not m + 2 s) misses it, the slave having been deeper than
+    // m at the rebuild.
+    let mut c = faces(40, H, 40, H, 0.37 * H, -1.05 * H);
+    let segments = c.surface.segments().to_vec();
+    let nodes = c.surface.nodes().to_vec();
+    let limits = Limits {
+        max_gap: H,
+        projection_tolerance: 1e-3,
+    };
+    let (mut kept, mut fresh) = (
+        BucketGrid::with_capacity(segments.len()),
+        BucketGrid::with_capacity(segments.len()),
+    );
+    let (mut listed_found, mut rebuilds) = (0, 0);
+    // 17 rises of 0.005 h by the last step: 0.085 h, within the 0.09 h that keeps the grid
+    for step in 0..50 {
+        rebuilds += usize::from(kept.update(&segments, &nodes, &c.x, H, 1e-3));
+        fresh.rebuild(&segments, &c.x, H, 1e-3);
+        let frames = frames_of(&segments, &c.x);
+        for (k, &i) in nodes.iter().enumerate() {
+            let lower = c.lower.contains(&i);
+            let slave = Slave {
+                node: i,
+                tied: super::search::UNTIED,
+                normal: Vector2::new(0.0, if lower { 1.0 } else { -1.0 }),
+            };
+            let (listed, from_list) = kept.candidates_of(k, c.x[i as usize]);
+            let a = closest_master_or_depth(&slave, listed, &segments, &frames, &c.x, &limits).0;
+            let cell = fresh.candidates(c.x[i as usize]);
+            let b = closest_master_or_depth(&slave, cell, &segments, &frames, &c.x, &limits).0;
+            assert_eq!(a, b, "step {step}, node {i}");
+            listed_found += usize::from(from_list && a.is_some());
+        }
+        if step >= 32 {
+            for &i in &c.upper {
+                c.x[i as usize].y += 0.005 * H;
+            }
+        }
+    }
+    assert_eq!(rebuilds, 2, "one rebuild, then one with the lists, kept after");
+    assert!(
+        listed_found > 0,
+        "masters must come within reach through the lists"
     );
 }
