@@ -4,7 +4,7 @@
 use nalgebra::Vector2;
 
 use super::search::{BucketGrid, Limits, Slave, closest_master, closest_master_or_depth};
-use super::tests::{EPS, H, faces, frames_of, new_pass, params, run};
+use super::tests::{EPS, Faces, H, faces, frames_of, new_pass, params, run};
 use super::*;
 
 /// Lower face 3 segments; upper face 1 segment starting just left of the lower node at x = h,
@@ -253,46 +253,22 @@ fn a_kept_grid_finds_what_a_fresh_grid_finds_while_the_faces_slide() {
     // too long, fails the count of rebuilds. (The margin m = h is wide beside the 2.4 µm
     // penetration, so a skin left out of the margin is not caught here.)
     let mut c = faces(40, H, 40, H, 0.37 * H, -2.4e-6);
-    let segments = c.surface.segments().to_vec();
-    let nodes = c.surface.nodes().to_vec();
-    let limits = Limits {
-        max_gap: H,
-        projection_tolerance: 1e-3,
-    };
-    let (mut kept, mut fresh) = (
-        BucketGrid::with_capacity(segments.len()),
-        BucketGrid::with_capacity(segments.len()),
-    );
-    let (mut rebuilds, mut contacts, mut lists) = (0, 0, 0);
     let steps = 230;
-    for step in 0..steps {
-        rebuilds += usize::from(kept.update(&segments, &nodes, &c.x, H, 1e-3));
-        fresh.rebuild(&segments, &c.x, H, 1e-3);
-        let frames = frames_of(&segments, &c.x);
-        for (k, &i) in nodes.iter().enumerate() {
-            let lower = c.lower.contains(&i);
-            let slave = Slave {
-                node: i,
-                tied: super::search::UNTIED,
-                normal: Vector2::new(0.0, if lower { 1.0 } else { -1.0 }),
-            };
-            let (listed, from_list) = kept.candidates_of(k, c.x[i as usize]);
-            lists += usize::from(from_list);
-            let a = closest_master_or_depth(&slave, listed, &segments, &frames, &c.x, &limits);
-            let cell = fresh.candidates(c.x[i as usize]);
-            let b = closest_master_or_depth(&slave, cell, &segments, &frames, &c.x, &limits);
-            assert_eq!(a, b, "step {step}, node {i}");
-            contacts += usize::from(a.0.is_some());
-        }
+    let Tally {
+        rebuilds,
+        contacts,
+        listed,
+        ..
+    } = kept_against_fresh(&mut c, steps, |step, c| {
         let rock = if step % 2 == 0 { 3e-7 } else { -3e-7 };
         for &i in &c.upper {
             c.x[i as usize] += Vector2::new(0.013 * H, rock);
         }
-    }
+    });
     assert!(contacts > 20 * steps, "the faces must touch: {contacts} contacts");
     assert!(
-        lists > 40 * steps / 2,
-        "the lists must be used: {lists} of {}",
+        listed > 40 * steps / 2,
+        "the lists must be used: {listed} of {}",
         82 * steps
     );
     assert!(
@@ -311,6 +287,43 @@ fn a_kept_list_holds_a_master_that_comes_within_the_detection_distance() {
     // left out the skin (inflated by m, not m + 2 s) misses it, the slave having been deeper than
     // m at the rebuild.
     let mut c = faces(40, H, 40, H, 0.37 * H, -1.05 * H);
+    // 17 rises of 0.005 h by the last step: 0.085 h, within the 0.09 h that keeps the grid
+    let Tally {
+        rebuilds,
+        listed_contacts,
+        ..
+    } = kept_against_fresh(&mut c, 50, |step, c| {
+        if step >= 32 {
+            for &i in &c.upper {
+                c.x[i as usize].y += 0.005 * H;
+            }
+        }
+    });
+    assert_eq!(rebuilds, 2, "one rebuild, then one with the lists, kept after");
+    assert!(
+        listed_contacts > 0,
+        "masters must come within reach through the lists"
+    );
+}
+
+/// What [`kept_against_fresh`] counted.
+#[derive(Debug, Default)]
+struct Tally {
+    /// Rebuilds of the kept grid.
+    rebuilds: usize,
+    /// Slaves, over all steps, with a master.
+    contacts: usize,
+    /// Slaves, over all steps, that read their list.
+    listed: usize,
+    /// Slaves, over all steps, that found a master in their list.
+    listed_contacts: usize,
+}
+
+/// `steps` steps of the faces `c`, moved by `motion(step, c)` after each: every slave must get
+/// the same master, projection and lost flag from a grid kept by `update` (its list, and its
+/// cell when the list gives no master, as in `resolve`) as from its cell in a grid rebuilt fresh
+/// every step.
+fn kept_against_fresh(c: &mut Faces, steps: usize, mut motion: impl FnMut(usize, &mut Faces)) -> Tally {
     let segments = c.surface.segments().to_vec();
     let nodes = c.surface.nodes().to_vec();
     let limits = Limits {
@@ -321,10 +334,9 @@ fn a_kept_list_holds_a_master_that_comes_within_the_detection_distance() {
         BucketGrid::with_capacity(segments.len()),
         BucketGrid::with_capacity(segments.len()),
     );
-    let (mut listed_found, mut rebuilds) = (0, 0);
-    // 17 rises of 0.005 h by the last step: 0.085 h, within the 0.09 h that keeps the grid
-    for step in 0..50 {
-        rebuilds += usize::from(kept.update(&segments, &nodes, &c.x, H, 1e-3));
+    let mut tally = Tally::default();
+    for step in 0..steps {
+        tally.rebuilds += usize::from(kept.update(&segments, &nodes, &c.x, H, 1e-3));
         fresh.rebuild(&segments, &c.x, H, 1e-3);
         let frames = frames_of(&segments, &c.x);
         for (k, &i) in nodes.iter().enumerate() {
@@ -335,21 +347,24 @@ fn a_kept_list_holds_a_master_that_comes_within_the_detection_distance() {
                 normal: Vector2::new(0.0, if lower { 1.0 } else { -1.0 }),
             };
             let (listed, from_list) = kept.candidates_of(k, c.x[i as usize]);
-            let a = closest_master_or_depth(&slave, listed, &segments, &frames, &c.x, &limits).0;
-            let cell = fresh.candidates(c.x[i as usize]);
-            let b = closest_master_or_depth(&slave, cell, &segments, &frames, &c.x, &limits).0;
-            assert_eq!(a, b, "step {step}, node {i}");
-            listed_found += usize::from(from_list && a.is_some());
-        }
-        if step >= 32 {
-            for &i in &c.upper {
-                c.x[i as usize].y += 0.005 * H;
+            let mut a = closest_master_or_depth(&slave, listed, &segments, &frames, &c.x, &limits);
+            let from_the_list = a.0;
+            tally.listed_contacts += usize::from(from_list && a.0.is_some());
+            if from_list && a.0.is_none() {
+                // as `resolve` does: the lost flag from the kept grid's cell
+                let cell = kept.candidates(c.x[i as usize]);
+                a = closest_master_or_depth(&slave, cell, &segments, &frames, &c.x, &limits);
             }
+            let cell = fresh.candidates(c.x[i as usize]);
+            let b = closest_master_or_depth(&slave, cell, &segments, &frames, &c.x, &limits);
+            assert_eq!(a, b, "step {step}, node {i}");
+            if from_list {
+                assert_eq!(from_the_list, b.0, "step {step}, node {i}: the list alone");
+            }
+            tally.contacts += usize::from(a.0.is_some());
+            tally.listed += usize::from(from_list);
         }
+        motion(step, c);
     }
-    assert_eq!(rebuilds, 2, "one rebuild, then one with the lists, kept after");
-    assert!(
-        listed_found > 0,
-        "masters must come within reach through the lists"
-    );
+    tally
 }
