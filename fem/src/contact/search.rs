@@ -114,7 +114,7 @@ impl BucketGrid {
     }
 
     /// The grid for `segments` at positions `x`, whose nodes are `nodes` (each once), and each
-    /// node's list of candidates ([`BucketGrid::listed`]): the grid and lists of an earlier step
+    /// node's list of candidates ([`BucketGrid::candidates_of`]): the grid and lists of an earlier step
     /// are kept while they still hold every candidate the narrow phase can accept, else they are
     /// rebuilt with a skin s = 0.1 × m (a Verlet skin): the boxes are inflated by m + 2 s, and a
     /// node's list holds the segments whose box holds the node. Returns whether they were rebuilt.
@@ -437,7 +437,7 @@ pub(crate) fn closest_master(
     closest_master_or_depth(slave, candidates, segments, frames, x, limits).0
 }
 
-/// As [`closest_master`] among `candidates` (the slave's list, [`BucketGrid::listed`], or its
+/// As [`closest_master`] among `candidates` (the slave's list, [`BucketGrid::candidates_of`], or its
 /// cell's segments), and whether a facing candidate within the projection tolerance was rejected
 /// only because its penetration exceeds d_max: a contact lost to the detection distance.
 pub(crate) fn closest_master_or_depth(

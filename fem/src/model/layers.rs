@@ -12,11 +12,11 @@ pub(crate) const BAND: usize = 16;
 /// Nodes per chunk of the corrector on a Gmsh mesh (the grid's chunks are its layers).
 pub(crate) const CHUNK: usize = 1024;
 
-/// Per chunk of the corrector (`width` nodes, the last
-/// one possibly shorter): whether it holds a node of the interface row. Such a chunk keeps its
-/// corrector and the next step's predictor as two passes, since the velocity damping and the
-/// next step's first reads (the row's displacements, kept for the friction's slip) see the row's
-/// state between the two; every other chunk may take both in one pass on unsampled steps.
+/// Per chunk of the corrector (`width` nodes, the last one possibly shorter): whether it holds a
+/// node of the interface row. Such a chunk keeps its corrector and the next step's predictor as
+/// two passes, since the velocity damping and the next step's first read (the row's displacements,
+/// kept for the contact work) see the row's state between the two; every other chunk may take both
+/// in one pass on unsampled steps.
 pub(crate) fn apart_chunks(num_nodes: usize, width: usize, row: Option<&InterfaceRow>) -> Vec<bool> {
     let mut apart = vec![false; num_nodes.div_ceil(width)];
     if let Some(row) = row {
