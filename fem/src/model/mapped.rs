@@ -481,33 +481,47 @@ fn segment_portable<const W: usize>(
     let blocks = &blocks[row * per_row + first / W..(row + 1) * per_row];
     let blocks = &blocks[..blocks.len().min(SEGMENT / W)];
     let stride = out.len() / 8;
+    // the last block's nodes, padded ([`block_nodes`])
+    let mut pads = [[0.0; 2 * (MAX_LANES + 1)]; 2];
     for (b, shape) in (first / W..).zip(blocks) {
-        // the W + 1 nodes of the block in each row, x, y pairs; past the row's last node (in its
-        // last block) the last node again: those lanes' forces are never read
-        let span = |r: &[f64]| -> [f64; 2 * (MAX_LANES + 1)] {
-            let (n0, len) = (2 * b * W, 2 * (W + 1));
-            let mut s = [0.0; 2 * (MAX_LANES + 1)];
-            match r.get(n0..n0 + len) {
-                Some(r) => s[..len].copy_from_slice(r),
-                None => {
-                    for (i, v) in s[..len].iter_mut().enumerate() {
-                        *v = r[2 * (b * W + i / 2).min(nx) + i % 2];
-                    }
-                }
-            }
-            s
-        };
-        let (l, h) = (span(lower), span(upper));
-        let node = |r: &[f64; 2 * (MAX_LANES + 1)], shift: usize| V {
+        let [pad_l, pad_h] = &mut pads;
+        let (l, h) = (
+            block_nodes::<W>(lower, b, nx, pad_l),
+            block_nodes::<W>(upper, b, nx, pad_h),
+        );
+        let node = |r: &[f64], shift: usize| V {
             x: Lanes(std::array::from_fn(|q| r[2 * (q + shift)])),
             y: Lanes(std::array::from_fn(|q| r[2 * (q + shift) + 1])),
         };
-        let ue = [node(&l, 0), node(&l, 1), node(&h, 1), node(&h, 0)];
+        let ue = [node(l, 0), node(l, 1), node(h, 1), node(h, 0)];
         let fe = block_forces(shape, k.half_width, k.inv_half_width, &k.elasticity, &ue);
         let e = b * W - e0;
         for (a, corner) in fe.iter().enumerate() {
             out[2 * a * stride + e..2 * a * stride + e + W].copy_from_slice(&corner.x.0);
             out[(2 * a + 1) * stride + e..(2 * a + 1) * stride + e + W].copy_from_slice(&corner.y.0);
+        }
+    }
+}
+
+/// The `W + 1` nodes of block `b` of a displacement row `r` (x, y pairs) [m], read in place;
+/// past the row's last node (node `nx`, in its last block) the last node again, copied into
+/// `pad`: those lanes' forces are never read. (Copied into an array for every block, the nodes
+/// went through the stack and back: 22 % of the AVX2 kernel's time.)
+#[inline(always)]
+fn block_nodes<'a, const W: usize>(
+    r: &'a [f64],
+    b: usize,
+    nx: usize,
+    pad: &'a mut [f64; 2 * (MAX_LANES + 1)],
+) -> &'a [f64] {
+    let (n0, len) = (2 * b * W, 2 * (W + 1));
+    match r.get(n0..n0 + len) {
+        Some(r) => r,
+        None => {
+            for (i, v) in pad[..len].iter_mut().enumerate() {
+                *v = r[2 * (b * W + i / 2).min(nx) + i % 2];
+            }
+            &pad[..len]
         }
     }
 }
