@@ -104,6 +104,7 @@ pub(crate) struct ContactResponse {
 /// beyond a segment end would otherwise lose the part of its slip past the end for one step and
 /// get it back the next, a dip of the stick traction at every junction. Forces still use ξ_c
 /// (docs/fem-model.md §5.3).
+#[inline(always)]
 pub(crate) fn respond(
     eps_n: f64,
     law: &Friction,

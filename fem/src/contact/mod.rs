@@ -328,17 +328,18 @@ pub(crate) fn resolve(
         let i = node as usize;
         let area = ws.area_sum[i].norm();
         state.area[i] = area;
-        let (segment, proj, r) = match *detected {
+        // by reference: a copy of the whole result went through a call to memmove
+        let (segment, proj, r) = match detected {
             Detected::Lost(lost) => {
-                summary.dropped += usize::from(lost);
+                summary.dropped += usize::from(*lost);
                 state.clear(i, p.prakash_ratio);
                 continue;
             }
-            Detected::Hit { segment, proj, r } => (segment, proj, r),
+            Detected::Hit { segment, proj, r } => (*segment, proj, r),
         };
         let law = if frictionless_law(i) { &no_friction } else { &law };
         scatter(f, node, segment, proj.xi_clamped, r.force);
-        state.record(i, segment, &proj, &r);
+        state.record(i, segment, proj, r);
         summary.contacts += 1;
         summary.max_penetration = summary.max_penetration.max(-proj.gap);
         let w_area = forces::AVERAGING_WEIGHT * area;

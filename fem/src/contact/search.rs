@@ -440,6 +440,7 @@ pub(crate) fn closest_master(
 /// As [`closest_master`] among `candidates` (the slave's list, [`BucketGrid::candidates_of`], or its
 /// cell's segments), and whether a facing candidate within the projection tolerance was rejected
 /// only because its penetration exceeds d_max: a contact lost to the detection distance.
+#[inline(always)]
 pub(crate) fn closest_master_or_depth(
     slave: &Slave,
     candidates: &[u32],
