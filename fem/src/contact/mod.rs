@@ -328,7 +328,7 @@ pub(crate) fn resolve(
         let i = node as usize;
         let area = ws.area_sum[i].norm();
         state.area[i] = area;
-        // by reference: a copy of the whole result went through a call to memmove
+        // each slave's result read in place, not copied whole
         let (segment, proj, r) = match detected {
             Detected::Lost(lost) => {
                 summary.dropped += usize::from(*lost);

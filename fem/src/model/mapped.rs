@@ -505,8 +505,8 @@ fn segment_portable<const W: usize>(
 
 /// The `W + 1` nodes of block `b` of a displacement row `r` (x, y pairs) [m], read in place;
 /// past the row's last node (node `nx`, in its last block) the last node again, copied into
-/// `pad`: those lanes' forces are never read. (Copied into an array for every block, the nodes
-/// went through the stack and back: 22 % of the AVX2 kernel's time.)
+/// `pad`: those lanes' forces are never read. (Copied into an array for every block, by a
+/// function the AVX2 build did not inline, the nodes went through the stack and back.)
 #[inline(always)]
 fn block_nodes<'a, const W: usize>(
     r: &'a [f64],
