@@ -3,9 +3,10 @@
 //! all elements that is a fixed 2×2 block per neighbour node. One layer (node row) at a time, from
 //! the displacement rows below, of and above it, as flat x, y pairs.
 //!
-//! Interior nodes run the same lane code at the CPU's widest vectors (8 lanes with AVX-512, 4
-//! with AVX2, 4 in portable code), two edge nodes per layer scalar; every node's force is the
-//! same sequence of IEEE operations whatever the vector width, the grouping or the thread.
+//! Interior nodes run lane code at the CPU's widest vectors (8 lanes with AVX-512, 4 in portable
+//! code; the AVX2 build writes its 4 lanes out in intrinsics), two edge nodes per layer scalar;
+//! every node's force is the same sequence of IEEE operations whatever the vector width, the
+//! grouping or the thread.
 
 /// Element stiffness K_e [N/m per m] (8×8, DOF order x₀, y₀, x₁, y₁, …).
 pub(crate) type Ke = [[f64; 8]; 8];
@@ -196,10 +197,73 @@ fn edge<const R: usize>(
     out[2 * i + 1] = -acc[1];
 }
 
+/// Node pairs per iteration of [`interior_avx2`].
+#[cfg(target_arch = "x86_64")]
+const PAIRS: usize = 2;
+
+/// The AVX2 build: two node pairs per iteration, each pair's four lanes (f_x, f_y, f_x', f_y') in
+/// one register. Per neighbour the displacement window (u_x, u_y, u_x', u_y') is loaded as it lies
+/// and with its pairs swapped in-lane, so that f_x += k_xx u_x + k_xy u_y and f_y += k_yy u_y +
+/// k_yx u_x: the products of [`interior`]'s lanes, the f_y pair added in the other order (exact),
+/// without the cross-lane shuffles the compiler builds from that code's broadcast pattern. The
+/// two pairs are independent sums, so one pair's adds do not wait on the other's. The nodes left
+/// over go through [`interior`] from the first one not done.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn interior_avx2<const R: usize>(rows: [&[f64]; R], blocks: &Rows<R>, out: &mut [f64]) {
-    interior::<R, 4>(rows, blocks, out)
+    use std::arch::x86_64::{
+        __m256d, _mm256_add_pd, _mm256_blend_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_permute_pd,
+        _mm256_set1_pd, _mm256_setzero_pd, _mm256_storeu_pd, _mm256_xor_pd,
+    };
+    let nx = out.len() / 2 - 1;
+    // per node row and column offset: (k_xx, k_yy, k_xx, k_yy) and (k_xy, k_yx, k_xy, k_yx), from
+    // the blocks' (k_xx, k_yx, …) and (k_xy, k_yy, …)
+    let load = |v: &[f64; 4]| {
+        // SAFETY: `v` holds four f64; the load is unaligned.
+        unsafe { _mm256_loadu_pd(v.as_ptr()) }
+    };
+    let coefficients: [[[__m256d; 2]; 3]; R] = std::array::from_fn(|r| {
+        std::array::from_fn(|dc| {
+            let [xs, ys] = &blocks[r][dc];
+            let (xs, ys) = (load(xs), load(ys));
+            [
+                _mm256_blend_pd::<0b1010>(xs, ys),
+                _mm256_blend_pd::<0b0101>(xs, ys),
+            ]
+        })
+    });
+    let sign = _mm256_set1_pd(-0.0);
+    let negate = |a: __m256d| _mm256_xor_pd(a, sign);
+    let mut i = 1;
+    while i + 2 * PAIRS <= nx {
+        let mut acc = [_mm256_setzero_pd(); PAIRS];
+        for (row, ks) in rows.iter().zip(&coefficients) {
+            // nodes i − 1 ..= i + 2·PAIRS, x, y pairs
+            let u = &row[2 * (i - 1)..2 * (i - 1) + 4 * PAIRS + 4];
+            for (dc, [k1, k2]) in ks.iter().enumerate() {
+                for (g, a) in acc.iter_mut().enumerate() {
+                    let w = load(
+                        u[4 * g + 2 * dc..4 * g + 2 * dc + 4]
+                            .try_into()
+                            .expect("four values"),
+                    );
+                    let t = _mm256_add_pd(
+                        _mm256_mul_pd(*k1, w),
+                        _mm256_mul_pd(*k2, _mm256_permute_pd::<0b0101>(w)),
+                    );
+                    *a = _mm256_add_pd(*a, t);
+                }
+            }
+        }
+        let o = &mut out[2 * i..2 * i + 4 * PAIRS];
+        for (g, a) in acc.iter().enumerate() {
+            // SAFETY: `o` holds 4·PAIRS f64; the store is unaligned. The sign bit is flipped, as
+            // the scalar negation does (0 − a would give +0 where −a gives −0).
+            unsafe { _mm256_storeu_pd(o.as_mut_ptr().add(4 * g), negate(*a)) };
+        }
+        i += 2 * PAIRS;
+    }
+    interior_from::<R, 4>(rows, blocks, out, i)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -212,9 +276,19 @@ fn interior_avx512<const R: usize>(rows: [&[f64]; R], blocks: &Rows<R>, out: &mu
 /// over take one at a time the first two lanes of the same arithmetic.
 #[inline(always)]
 fn interior<const R: usize, const L: usize>(rows: [&[f64]; R], blocks: &Rows<R>, out: &mut [f64]) {
+    interior_from::<R, L>(rows, blocks, out, 1)
+}
+
+/// [`interior`] from node `i` on.
+#[inline(always)]
+fn interior_from<const R: usize, const L: usize>(
+    rows: [&[f64]; R],
+    blocks: &Rows<R>,
+    out: &mut [f64],
+    mut i: usize,
+) {
     let nx = out.len() / 2 - 1;
     let p = L / 2;
-    let mut i = 1;
     while i + p <= nx {
         let mut acc = [0.0f64; L];
         for (row, blk) in rows.iter().zip(blocks) {
