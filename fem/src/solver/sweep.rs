@@ -18,7 +18,7 @@ use crate::model::layers::{BAND, SweepBuffers};
 use crate::model::mapped::{self, MappedStiffness};
 use crate::model::state::{BulkMesh, Model};
 use crate::model::stencil::Stencil;
-use crate::solver::node::advance;
+use crate::solver::node::advance_all;
 use nalgebra::Vector2;
 use rayon::prelude::*;
 
@@ -190,11 +190,14 @@ impl Band<'_> {
                 let fr = &ring[((j - 1) % 2) * row..((j - 1) % 2 + 1) * row];
                 let base = (j - 1 - a) * w;
                 let global = (j - 1) * w;
-                for i in 1..nx {
-                    let force = Vector2::new(fr[2 * i], fr[2 * i + 1]);
-                    let (ui, vi) = (&mut u[base + i], &mut v[base + i]);
-                    advance(ui, vi, force, self.mass[global + i], self.dt, &mut vmax2);
-                }
+                advance_all(
+                    &mut u[base + 1..base + nx],
+                    &mut v[base + 1..base + nx],
+                    &fr[2..2 * nx],
+                    &self.mass[global + 1..global + nx],
+                    self.dt,
+                    &mut vmax2,
+                );
                 done[j - 1 - a] = true;
             }
         }
