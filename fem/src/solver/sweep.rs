@@ -6,11 +6,12 @@
 //!
 //! Layers are taken in bands of [`BAND`], each band by one task, in order: when layer j's forces
 //! are known, layer j − 1 can move on (its forces and those of both neighbours are computed from
-//! its u_{n+1}). Deferred to the corrector pass after contact and insertion, with their forces
-//! stored: the first and last layer of each band (a neighbouring band reads them), the edge nodes
-//! of every layer (prescribed in the paper's cases, whose reactions read their forces), and the
-//! layers of [`deferred_layers`]. Every node goes through exactly the operations of the separate
-//! passes, so the result is the same to the bit, whatever the bands or the threads.
+//! its u_{n+1}); a band's last layer moves on once its own forces are known, since the band above
+//! reads it from its halo copy, taken before the sweep. Deferred to the corrector pass after
+//! contact and insertion, with their forces stored: the edge nodes of every layer (prescribed in
+//! the paper's cases, whose reactions read their forces) and the layers of [`deferred_layers`].
+//! Every node goes through exactly the operations of the separate passes, so the result is the
+//! same to the bit, whatever the bands or the threads.
 
 use crate::mesh::structured::Grid;
 use crate::model::bulk::Stiffness;
@@ -137,7 +138,7 @@ impl Band<'_> {
         let e = a + done.len();
         let nx = w - 1;
         let mut vmax2 = 0.0f64;
-        let stored = |j: usize| self.deferred[j] || j == a || j + 1 == e;
+        let stored = |j: usize| self.deferred[j];
         for j in a..e {
             done[j - a] = false;
             let (below, above) = self.grid.layer_element_rows(j);
@@ -186,21 +187,43 @@ impl Band<'_> {
                 }
             }
             // layer j − 1 now has its forces and both neighbours': it moves on.
-            if j >= a + 2 && !stored(j - 1) {
-                let fr = &ring[((j - 1) % 2) * row..((j - 1) % 2 + 1) * row];
-                let base = (j - 1 - a) * w;
-                let global = (j - 1) * w;
-                advance_all(
-                    &mut u[base + 1..base + nx],
-                    &mut v[base + 1..base + nx],
-                    &fr[2..2 * nx],
-                    &self.mass[global + 1..global + nx],
-                    self.dt,
-                    &mut vmax2,
-                );
+            if j > a && !stored(j - 1) {
+                self.advance(j - 1, a, u, v, ring, &mut vmax2);
                 done[j - 1 - a] = true;
             }
         }
+        // the band's last layer: its neighbour above is the next band's, which reads it from
+        // its own halo copy
+        if !stored(e - 1) {
+            self.advance(e - 1, a, u, v, ring, &mut vmax2);
+            done[e - 1 - a] = true;
+        }
         vmax2
+    }
+
+    /// The corrector and the next predictor of the interior nodes of layer `j` of the band from
+    /// layer `a`, from its forces in the scratch `ring`.
+    fn advance(
+        &self,
+        j: usize,
+        a: usize,
+        u: &mut [Vector2<f64>],
+        v: &mut [Vector2<f64>],
+        ring: &[f64],
+        vmax2: &mut f64,
+    ) {
+        let (w, row) = (self.w, 2 * self.w);
+        let nx = w - 1;
+        let fr = &ring[(j % 2) * row..(j % 2 + 1) * row];
+        let base = (j - a) * w;
+        let global = j * w;
+        advance_all(
+            &mut u[base + 1..base + nx],
+            &mut v[base + 1..base + nx],
+            &fr[2..2 * nx],
+            &self.mass[global + 1..global + nx],
+            self.dt,
+            vmax2,
+        );
     }
 }
