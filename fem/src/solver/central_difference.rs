@@ -9,7 +9,7 @@ use crate::model::state::{Model, State, Workspace};
 use crate::model::{bulk, cohesive, insertion};
 use crate::profile::Phase;
 use crate::scene::DampingSet;
-use crate::solver::node::{advance, advance_all, predict, track_vmax2};
+use crate::solver::node::{Span, advance, advance_all, predict, track_vmax2};
 use crate::solver::{absorbing, contact_step};
 use nalgebra::Vector2;
 use rayon::prelude::*;
@@ -399,14 +399,13 @@ impl Nodes<'_> {
     #[inline(always)]
     fn advance_all(self) -> f64 {
         let mut vmax2 = 0.0f64;
-        advance_all(
-            self.u,
-            self.v,
-            bytemuck::cast_slice(self.f),
-            self.m,
-            self.dt,
-            &mut vmax2,
-        );
+        let nodes = Span {
+            u: self.u,
+            v: self.v,
+            f: bytemuck::cast_slice(self.f),
+            m: self.m,
+        };
+        advance_all(nodes, self.dt, &mut vmax2);
         vmax2
     }
 

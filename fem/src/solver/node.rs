@@ -39,38 +39,36 @@ pub(crate) fn advance(
     predict(u, v, &a, dt);
 }
 
-/// [`advance`] of consecutive nodes: their u, v, forces `f` as x, y pairs [N/m] and masses `m`
-/// [kg/m]; their largest |v_{n+1}|² joins `vmax2` as [`track_vmax2`] would take it. With AVX2
+/// [`advance`] of consecutive nodes; their largest |v_{n+1}|² joins `vmax2` as [`track_vmax2`] would take it. With AVX2
 /// two nodes go through one vector of four lanes, each lane through the IEEE operations of
 /// [`advance`]; the maximum is the same whatever the order the nodes are seen in.
-pub(crate) fn advance_all(
-    u: &mut [Vector2<f64>],
-    v: &mut [Vector2<f64>],
-    f: &[f64],
-    m: &[f64],
-    dt: f64,
-    vmax2: &mut f64,
-) {
+pub(crate) fn advance_all(nodes: Span<'_>, dt: f64, vmax2: &mut f64) {
+    let Span { u, v, f, m } = &nodes;
     assert!(v.len() == u.len() && m.len() == u.len() && f.len() == 2 * u.len());
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU reported AVX2 at run time.
-        return unsafe { advance_avx2(u, v, f, m, dt, vmax2) };
+        return unsafe { advance_avx2(nodes, dt, vmax2) };
     }
-    advance_from(u, v, f, m, dt, vmax2, 0);
+    advance_from(nodes, dt, vmax2, 0);
+}
+
+/// Consecutive nodes for [`advance_all`].
+pub(crate) struct Span<'a> {
+    /// Displacements [m].
+    pub(crate) u: &'a mut [Vector2<f64>],
+    /// Velocities [m/s].
+    pub(crate) v: &'a mut [Vector2<f64>],
+    /// Forces as x, y pairs [N/m].
+    pub(crate) f: &'a [f64],
+    /// Lumped masses [kg/m].
+    pub(crate) m: &'a [f64],
 }
 
 /// [`advance`] node by node from node `k` on.
 #[inline(always)]
-fn advance_from(
-    u: &mut [Vector2<f64>],
-    v: &mut [Vector2<f64>],
-    f: &[f64],
-    m: &[f64],
-    dt: f64,
-    vmax2: &mut f64,
-    k: usize,
-) {
+fn advance_from(nodes: Span<'_>, dt: f64, vmax2: &mut f64, k: usize) {
+    let Span { u, v, f, m } = nodes;
     for (((u, v), f), &m) in u
         .iter_mut()
         .zip(v.iter_mut())
@@ -89,19 +87,13 @@ fn advance_from(
 /// below ∞) sets a flag that makes the result ∞, as [`track_vmax2`] does.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn advance_avx2(
-    u: &mut [Vector2<f64>],
-    v: &mut [Vector2<f64>],
-    f: &[f64],
-    m: &[f64],
-    dt: f64,
-    vmax2: &mut f64,
-) {
+fn advance_avx2(nodes: Span<'_>, dt: f64, vmax2: &mut f64) {
     use std::arch::x86_64::{
         _CMP_NLT_UQ, _mm_loaddup_pd, _mm256_add_pd, _mm256_castpd_si256, _mm256_cmp_pd, _mm256_div_pd,
         _mm256_loadu_pd, _mm256_max_pd, _mm256_mul_pd, _mm256_or_pd, _mm256_permute_pd, _mm256_set_m128d,
         _mm256_set1_pd, _mm256_setzero_pd, _mm256_storeu_pd, _mm256_testz_si256,
     };
+    let Span { u, v, f, m } = nodes;
     let pairs = u.len() / 2;
     let (hdt, h2) = (0.5 * dt, 0.5 * dt * dt);
     let (dtv, hdtv, h2v, inf) = (
@@ -146,7 +138,7 @@ fn advance_avx2(
     for l in lanes {
         track_vmax2(vmax2, l);
     }
-    advance_from(u, v, f, m, dt, vmax2, 2 * pairs);
+    advance_from(Span { u, v, f, m }, dt, vmax2, 2 * pairs);
 }
 
 #[cfg(test)]
@@ -176,7 +168,13 @@ mod tests {
                 advance(&mut u1[k], &mut v1[k], force, m[k], dt, &mut max1);
             }
             let mut max2 = 0.5;
-            advance_all(&mut u2, &mut v2, &f, &m, dt, &mut max2);
+            let nodes = Span {
+                u: &mut u2,
+                v: &mut v2,
+                f: &f,
+                m: &m,
+            };
+            advance_all(nodes, dt, &mut max2);
             let bits = |x: &[Vector2<f64>]| {
                 x.iter()
                     .flat_map(|p| [p.x.to_bits(), p.y.to_bits()])

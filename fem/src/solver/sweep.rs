@@ -19,7 +19,7 @@ use crate::model::layers::{BAND, SweepBuffers};
 use crate::model::mapped::{self, MappedStiffness};
 use crate::model::state::{BulkMesh, Model};
 use crate::model::stencil::Stencil;
-use crate::solver::node::advance_all;
+use crate::solver::node::{Span, advance_all};
 use nalgebra::Vector2;
 use rayon::prelude::*;
 
@@ -217,13 +217,12 @@ impl Band<'_> {
         let fr = &ring[(j % 2) * row..(j % 2 + 1) * row];
         let base = (j - a) * w;
         let global = j * w;
-        advance_all(
-            &mut u[base + 1..base + nx],
-            &mut v[base + 1..base + nx],
-            &fr[2..2 * nx],
-            &self.mass[global + 1..global + nx],
-            self.dt,
-            vmax2,
-        );
+        let nodes = Span {
+            u: &mut u[base + 1..base + nx],
+            v: &mut v[base + 1..base + nx],
+            f: &fr[2..2 * nx],
+            m: &self.mass[global + 1..global + nx],
+        };
+        advance_all(nodes, self.dt, vmax2);
     }
 }
