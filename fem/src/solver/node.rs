@@ -39,9 +39,9 @@ pub(crate) fn advance(
     predict(u, v, &a, dt);
 }
 
-/// [`advance`] of consecutive nodes; their largest |v_{n+1}|² joins `vmax2` as [`track_vmax2`] would take it. With AVX2
-/// two nodes go through one vector of four lanes, each lane through the IEEE operations of
-/// [`advance`]; the maximum is the same whatever the order the nodes are seen in.
+/// [`advance`] of consecutive nodes; their largest |v_{n+1}|² joins `vmax2` as [`track_vmax2`]
+/// would take it. With AVX2 two nodes go through one vector of four lanes, each lane through the
+/// IEEE operations of [`advance`]; the maximum is the same whatever the order the nodes are seen in.
 pub(crate) fn advance_all(nodes: Span<'_>, dt: f64, vmax2: &mut f64) {
     let Span { u, v, f, m } = &nodes;
     assert!(v.len() == u.len() && m.len() == u.len() && f.len() == 2 * u.len());
@@ -102,8 +102,7 @@ fn advance_avx2(nodes: Span<'_>, dt: f64, vmax2: &mut f64) {
         _mm256_set1_pd(h2),
         _mm256_set1_pd(f64::INFINITY),
     );
-    let mut top = _mm256_set1_pd(0.0);
-    let mut bad = _mm256_setzero_pd();
+    let (mut top, mut bad) = (_mm256_setzero_pd(), _mm256_setzero_pd());
     {
         let uf: &mut [f64] = bytemuck::cast_slice_mut(u);
         let vf: &mut [f64] = bytemuck::cast_slice_mut(v);
