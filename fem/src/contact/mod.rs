@@ -374,8 +374,9 @@ pub(crate) fn resolve(
 }
 
 /// Slaves ahead whose entries the serial pass of [`resolve`] asks the cache for. The per-node
-/// arrays are indexed by node id, and nothing else in the step reads most of them, so each pass
-/// found them out of the core's caches, one dependent miss after another.
+/// arrays are indexed by node id and nothing else in the step reads most of them: without the
+/// hint, the pass met them out of the core's caches, one miss after another
+/// (docs/performance.md, "Contact at scale").
 const AHEAD: usize = 8;
 
 /// Asks the cache for the line that holds `v[i]`: a hint, with no effect on any value.

@@ -447,8 +447,8 @@ fn segment_forces(k: &MappedStiffness, segment: &Segment<'_>, out: &mut [f64]) {
     }
 }
 
-/// `$name`: [`segment_portable`] on blocks of `$w`, compiled with the CPU feature `$feature`,
-/// its corners read by `$gather`.
+/// `$name`: [`segment_with`] on blocks of `$w`, compiled with the CPU feature `$feature`, its
+/// corners read by `$gather`.
 macro_rules! segment_built_for {
     ($name:ident, $feature:literal, $w:literal, $gather:ty) => {
         #[cfg(target_arch = "x86_64")]
