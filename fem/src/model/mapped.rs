@@ -15,6 +15,9 @@
 //! into its two layers ([`layer_from_rows`]) in the order of the separate force pass
 //! ([`internal_forces`]), so both give the same bits (docs/performance.md, "Mapped meshes").
 
+#[cfg(target_arch = "x86_64")]
+mod avx2;
+
 use crate::mesh::structured::Grid;
 use nalgebra::Vector2;
 use rayon::prelude::*;
@@ -447,89 +450,40 @@ fn segment_forces(k: &MappedStiffness, segment: &Segment<'_>, out: &mut [f64]) {
     }
 }
 
-/// `$name`: [`segment_with`] on blocks of `$w`, compiled with the CPU feature `$feature`, its
-/// corners read by `$gather`.
+/// `$name`: [`segment_portable`] on blocks of `$w`, compiled with the CPU feature `$feature`.
 macro_rules! segment_built_for {
-    ($name:ident, $feature:literal, $w:literal, $gather:ty) => {
+    ($name:ident, $feature:literal, $w:literal) => {
         #[cfg(target_arch = "x86_64")]
         #[target_feature(enable = $feature)]
         fn $name(k: &MappedStiffness, blocks: &[Shapes<$w>], segment: &Segment<'_>, out: &mut [f64]) {
-            segment_with::<$w, $gather>(k, blocks, segment, out)
+            segment_portable::<$w>(k, blocks, segment, out)
         }
     };
 }
-segment_built_for!(segment_avx512, "avx512f", 8, Portable);
-segment_built_for!(segment_avx2, "avx2", 4, Avx2);
+segment_built_for!(segment_avx512, "avx512f", 8);
 
-/// How a block's corner displacements are read from a displacement row.
-trait Gather<const W: usize> {
-    /// From the `W + 1` nodes of a block (x, y pairs, at least 2(W + 1) values) [m]: nodes 0..W
-    /// and nodes 1..=W, as lanes of x and of y.
-    ///
-    /// # Safety
-    /// The CPU runs the instructions the implementation uses.
-    unsafe fn nodes(r: &[f64]) -> (V<W>, V<W>);
+/// The four-lane build, written in AVX2 intrinsics ([`avx2`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn segment_avx2(k: &MappedStiffness, blocks: &[Shapes<4>], segment: &Segment<'_>, out: &mut [f64]) {
+    avx2::segment(k, blocks, segment, out)
 }
 
-/// Lane by lane, in any build.
-struct Portable;
-
-impl<const W: usize> Gather<W> for Portable {
-    #[inline(always)]
-    unsafe fn nodes(r: &[f64]) -> (V<W>, V<W>) {
-        let node = |shift: usize| V {
-            x: Lanes(std::array::from_fn(|q| r[2 * (q + shift)])),
-            y: Lanes(std::array::from_fn(|q| r[2 * (q + shift) + 1])),
-        };
-        (node(0), node(1))
-    }
-}
-
-/// Four lanes with AVX2: the pairs loaded as they lie, then split into x and y by one in-lane
-/// unpack and one permute each. Left to the compiler, the lanes of `Portable` went through
-/// scalar loads, and its differences and weights through scalar arithmetic.
-#[cfg(target_arch = "x86_64")]
-struct Avx2;
-
-#[cfg(target_arch = "x86_64")]
-impl Gather<4> for Avx2 {
-    #[inline(always)]
-    unsafe fn nodes(r: &[f64]) -> (V<4>, V<4>) {
-        use std::arch::x86_64::{
-            __m256d, _mm256_loadu_pd, _mm256_permute4x64_pd, _mm256_unpackhi_pd, _mm256_unpacklo_pd,
-        };
-        let r = &r[..10];
-        // SAFETY: `r` holds ten f64, the loads read r[0..4], r[2..6], r[4..8] and r[6..10],
-        // unaligned; the caller guarantees AVX2.
-        unsafe {
-            let load = |i: usize| _mm256_loadu_pd(r.as_ptr().add(i));
-            // (a₀, b₀, a₂, b₂) = (x₀, x₂, x₁, x₃) → (x₀, x₁, x₂, x₃)
-            let order = |v: __m256d| _mm256_permute4x64_pd::<0b11_01_10_00>(v);
-            let lanes = |v: __m256d| Lanes(std::mem::transmute::<__m256d, [f64; 4]>(v));
-            let split = |a: __m256d, b: __m256d| V {
-                x: lanes(order(_mm256_unpacklo_pd(a, b))),
-                y: lanes(order(_mm256_unpackhi_pd(a, b))),
-            };
-            (split(load(0), load(4)), split(load(2), load(6)))
-        }
-    }
+/// Nodes 0..W and nodes 1..=W of a block, from the `W + 1` nodes of a displacement row (x, y
+/// pairs, at least 2(W + 1) values) [m], as lanes of x and of y.
+#[inline(always)]
+fn block_corners<const W: usize>(r: &[f64]) -> (V<W>, V<W>) {
+    let node = |shift: usize| V {
+        x: Lanes(std::array::from_fn(|q| r[2 * (q + shift)])),
+        y: Lanes(std::array::from_fn(|q| r[2 * (q + shift) + 1])),
+    };
+    (node(0), node(1))
 }
 
 /// [`segment_forces`] on blocks of `W` elements (`blocks`: every block of the stiffness), in
 /// any build.
 #[inline(always)]
 fn segment_portable<const W: usize>(
-    k: &MappedStiffness,
-    blocks: &[Shapes<W>],
-    segment: &Segment<'_>,
-    out: &mut [f64],
-) {
-    segment_with::<W, Portable>(k, blocks, segment, out)
-}
-
-/// [`segment_forces`], the corners read by `G`, whose instructions the CPU must run.
-#[inline(always)]
-fn segment_with<const W: usize, G: Gather<W>>(
     k: &MappedStiffness,
     blocks: &[Shapes<W>],
     segment: &Segment<'_>,
@@ -556,9 +510,7 @@ fn segment_with<const W: usize, G: Gather<W>>(
             block_nodes::<W>(lower, b, nx, pad_l),
             block_nodes::<W>(upper, b, nx, pad_h),
         );
-        // SAFETY: `G` is `Portable`, or the gather of the build this runs in (`segment_built_for`),
-        // which runs only where the CPU reported its feature.
-        let ((l0, l1), (h0, h1)) = unsafe { (G::nodes(l), G::nodes(h)) };
+        let ((l0, l1), (h0, h1)) = (block_corners::<W>(l), block_corners::<W>(h));
         let ue = [l0, l1, h1, h0];
         let fe = block_forces(shape, k.half_width, k.inv_half_width, &k.elasticity, &ue);
         let e = b * W - e0;
