@@ -425,6 +425,18 @@ struct Segment<'a> {
     e0: usize,
 }
 
+impl Segment<'_> {
+    /// The blocks of this segment's elements, out of `blocks` (every block of a grid of `nx`
+    /// elements a row, in blocks of `W`).
+    #[inline(always)]
+    fn blocks<'b, const W: usize>(&self, nx: usize, blocks: &'b [Shapes<W>]) -> &'b [Shapes<W>] {
+        debug_assert!(self.first.is_multiple_of(W) && SEGMENT.is_multiple_of(MAX_LANES));
+        let per_row = nx.div_ceil(W);
+        let blocks = &blocks[self.row * per_row + self.first / W..(self.row + 1) * per_row];
+        &blocks[..blocks.len().min(SEGMENT / W)]
+    }
+}
+
 /// The forces of a [`Segment`] into `out`, by the stiffness's blocks on the widest registers the
 /// CPU has for them.
 fn segment_forces(k: &MappedStiffness, segment: &Segment<'_>, out: &mut [f64]) {
@@ -489,31 +501,20 @@ fn segment_portable<const W: usize>(
     segment: &Segment<'_>,
     out: &mut [f64],
 ) {
-    let &Segment {
-        row,
-        first,
-        lower,
-        upper,
-        e0,
-    } = segment;
-    debug_assert!(first.is_multiple_of(W) && SEGMENT.is_multiple_of(MAX_LANES));
-    let nx = k.nx;
-    let per_row = nx.div_ceil(W);
-    let blocks = &blocks[row * per_row + first / W..(row + 1) * per_row];
-    let blocks = &blocks[..blocks.len().min(SEGMENT / W)];
-    let stride = out.len() / 8;
+    let (nx, stride) = (k.nx, out.len() / 8);
+    let blocks = segment.blocks(nx, blocks);
     // the last block's nodes, padded ([`block_nodes`])
     let mut pads = [[0.0; 2 * (MAX_LANES + 1)]; 2];
-    for (b, shape) in (first / W..).zip(blocks) {
+    for (b, shape) in (segment.first / W..).zip(blocks) {
         let [pad_l, pad_h] = &mut pads;
         let (l, h) = (
-            block_nodes::<W>(lower, b, nx, pad_l),
-            block_nodes::<W>(upper, b, nx, pad_h),
+            block_nodes::<W>(segment.lower, b, nx, pad_l),
+            block_nodes::<W>(segment.upper, b, nx, pad_h),
         );
         let ((l0, l1), (h0, h1)) = (block_corners::<W>(l), block_corners::<W>(h));
         let ue = [l0, l1, h1, h0];
         let fe = block_forces(shape, k.half_width, k.inv_half_width, &k.elasticity, &ue);
-        let e = b * W - e0;
+        let e = b * W - segment.e0;
         for (a, corner) in fe.iter().enumerate() {
             out[2 * a * stride + e..2 * a * stride + e + W].copy_from_slice(&corner.x.0);
             out[(2 * a + 1) * stride + e..(2 * a + 1) * stride + e + W].copy_from_slice(&corner.y.0);

@@ -11,7 +11,7 @@ use std::arch::x86_64::{
     _mm256_unpacklo_pd, _mm256_xor_pd,
 };
 
-use super::{MAX_LANES, MappedStiffness, SEGMENT, Segment, Shapes, block_nodes};
+use super::{MAX_LANES, MappedStiffness, Segment, Shapes, block_nodes};
 
 /// A vector quantity of four elements: x and y lanes.
 #[derive(Clone, Copy)]
@@ -40,19 +40,8 @@ struct Constants {
 /// corners read from the two displacement rows, its forces, and the eight lanes stored in place.
 #[target_feature(enable = "avx2")]
 pub(super) fn segment(k: &MappedStiffness, blocks: &[Shapes<4>], segment: &Segment<'_>, out: &mut [f64]) {
-    let &Segment {
-        row,
-        first,
-        lower,
-        upper,
-        e0,
-    } = segment;
-    debug_assert!(first.is_multiple_of(4) && SEGMENT.is_multiple_of(MAX_LANES));
-    let nx = k.nx;
-    let per_row = nx.div_ceil(4);
-    let blocks = &blocks[row * per_row + first / 4..(row + 1) * per_row];
-    let blocks = &blocks[..blocks.len().min(SEGMENT / 4)];
-    let stride = out.len() / 8;
+    let (nx, stride) = (k.nx, out.len() / 8);
+    let blocks = segment.blocks(nx, blocks);
     let g = 1.0 / 3f64.sqrt();
     let d = &k.elasticity;
     let c = Constants {
@@ -68,14 +57,14 @@ pub(super) fn segment(k: &MappedStiffness, blocks: &[Shapes<4>], segment: &Segme
         sign: _mm256_set1_pd(-0.0),
     };
     let mut pads = [[0.0; 2 * (MAX_LANES + 1)]; 2];
-    for (b, shape) in (first / 4..).zip(blocks) {
+    for (b, shape) in (segment.first / 4..).zip(blocks) {
         prefetch(std::ptr::from_ref(shape).wrapping_add(AHEAD));
-        let e = b * 4 - e0;
+        let e = b * 4 - segment.e0;
         // every store below writes lanes e..e + 4 of one of the eight arrays of `stride` numbers
         assert!(e + 4 <= stride, "block {b} past the buffer of {stride} elements");
         let [pad_l, pad_h] = &mut pads;
-        let (l0, l1) = nodes(block_nodes::<4>(lower, b, nx, pad_l));
-        let (h0, h1) = nodes(block_nodes::<4>(upper, b, nx, pad_h));
+        let (l0, l1) = nodes(block_nodes::<4>(segment.lower, b, nx, pad_l));
+        let (h0, h1) = nodes(block_nodes::<4>(segment.upper, b, nx, pad_h));
         let fe = block_forces(shape, &c, [l0, l1, h1, h0]);
         let base = out.as_mut_ptr();
         for (a, corner) in fe.iter().enumerate() {
