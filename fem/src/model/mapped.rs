@@ -7,8 +7,9 @@
 //!
 //! The elements of a row are computed in blocks of W consecutive elements, one lane each: W = 8,
 //! one AVX-512 register a quantity, where the CPU has AVX-512F, else W = 4, one AVX2 register
-//! (that build written in intrinsics, `avx2`) or the portable build. The width is chosen once, when the stiffness is built, and the shapes
-//! are stored in blocks of that width, so that either reads them contiguously. Every lane takes
+//! (that build written in intrinsics, `avx2`) or the portable build. The width is chosen once,
+//! when the stiffness is built, and the shapes are stored in blocks of that width, so that
+//! either reads them contiguously. Every lane takes
 //! the same IEEE operations in the same order (no fused multiply-add), so the bits do not depend
 //! on the lane, the width or the CPU. The one-pass sweep of
 //! unsampled steps (`solver::sweep`) computes each element row once ([`row_forces`]) and sums it
