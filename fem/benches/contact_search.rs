@@ -20,6 +20,9 @@ use std::hint::black_box;
 #[path = "../src/contact/mod.rs"]
 mod contact;
 
+#[path = "../src/hint.rs"]
+mod hint;
+
 #[path = "../src/law/friction.rs"]
 mod friction;
 #[path = "../src/law/penalty.rs"]

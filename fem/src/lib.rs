@@ -38,6 +38,7 @@
 pub(crate) mod contact;
 pub mod diag;
 pub mod error;
+mod hint;
 pub mod law;
 pub(crate) mod mesh;
 pub mod model;

@@ -15,6 +15,7 @@ mod tests_sliding;
 use nalgebra::Vector2;
 use rayon::prelude::*;
 
+use crate::hint::prefetch;
 use crate::law::friction::Friction;
 pub(crate) use forces::AVERAGING_WEIGHT;
 use forces::{ContactResponse, SlaveHistory, node_geometry, respond, scatter};
@@ -378,19 +379,6 @@ pub(crate) fn resolve(
 /// hint, the pass met them out of the core's caches, one miss after another
 /// (docs/performance.md, "Contact at scale").
 const AHEAD: usize = 8;
-
-/// Asks the cache for the line that holds `v[i]`: a hint, with no effect on any value.
-#[inline(always)]
-fn prefetch<T>(v: &[T], i: usize) {
-    #[cfg(target_arch = "x86_64")]
-    if let Some(x) = v.get(i) {
-        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-        // SAFETY: SSE is part of every x86_64 CPU; a prefetch reads nothing and `x` is in bounds.
-        unsafe { _mm_prefetch::<_MM_HINT_T0>(std::ptr::from_ref(x).cast()) };
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = (v, i);
-}
 
 /// What detection and the contact law found for one slave node.
 #[derive(Debug, Clone, Copy)]

@@ -431,10 +431,17 @@ impl Segment<'_> {
     /// elements a row, in blocks of `W`).
     #[inline(always)]
     fn blocks<'b, const W: usize>(&self, nx: usize, blocks: &'b [Shapes<W>]) -> &'b [Shapes<W>] {
-        debug_assert!(self.first.is_multiple_of(W) && SEGMENT.is_multiple_of(MAX_LANES));
         let per_row = nx.div_ceil(W);
-        let blocks = &blocks[self.row * per_row + self.first / W..(self.row + 1) * per_row];
+        let blocks = &blocks[self.first_block::<W>(nx)..(self.row + 1) * per_row];
         &blocks[..blocks.len().min(SEGMENT / W)]
+    }
+
+    /// The index of this segment's first block among every block of a grid of `nx` elements a
+    /// row, in blocks of `W`.
+    #[inline(always)]
+    fn first_block<const W: usize>(&self, nx: usize) -> usize {
+        debug_assert!(self.first.is_multiple_of(W) && SEGMENT.is_multiple_of(MAX_LANES));
+        self.row * nx.div_ceil(W) + self.first / W
     }
 }
 

@@ -6,12 +6,13 @@
 //! (docs/performance.md, "The mapped kernel in intrinsics").
 
 use std::arch::x86_64::{
-    __m256d, _MM_HINT_T0, _mm_prefetch, _mm256_add_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_permute4x64_pd,
-    _mm256_set1_pd, _mm256_setzero_pd, _mm256_storeu_pd, _mm256_sub_pd, _mm256_unpackhi_pd,
-    _mm256_unpacklo_pd, _mm256_xor_pd,
+    __m256d, _mm256_add_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_permute4x64_pd, _mm256_set1_pd,
+    _mm256_setzero_pd, _mm256_storeu_pd, _mm256_sub_pd, _mm256_unpackhi_pd, _mm256_unpacklo_pd,
+    _mm256_xor_pd,
 };
 
 use super::{MAX_LANES, MappedStiffness, Segment, Shapes, block_nodes};
+use crate::hint::prefetch;
 
 /// A vector quantity of four elements: x and y lanes.
 #[derive(Clone, Copy)]
@@ -38,9 +39,12 @@ struct Constants {
 
 /// [`segment_forces`](super::segment_forces) on blocks of four elements: for each block, its
 /// corners read from the two displacement rows, its forces, and the eight lanes stored in place.
+#[inline]
 #[target_feature(enable = "avx2")]
 pub(super) fn segment(k: &MappedStiffness, blocks: &[Shapes<4>], segment: &Segment<'_>, out: &mut [f64]) {
     let (nx, stride) = (k.nx, out.len() / 8);
+    // the shapes four blocks ahead are asked of the cache, past this segment's end too
+    let (every, ahead) = (blocks, segment.first_block::<4>(nx) + AHEAD);
     let blocks = segment.blocks(nx, blocks);
     let g = 1.0 / 3f64.sqrt();
     let d = &k.elasticity;
@@ -57,8 +61,8 @@ pub(super) fn segment(k: &MappedStiffness, blocks: &[Shapes<4>], segment: &Segme
         sign: _mm256_set1_pd(-0.0),
     };
     let mut pads = [[0.0; 2 * (MAX_LANES + 1)]; 2];
-    for (b, shape) in (segment.first / 4..).zip(blocks) {
-        prefetch(std::ptr::from_ref(shape).wrapping_add(AHEAD));
+    for (j, (b, shape)) in (segment.first / 4..).zip(blocks).enumerate() {
+        prefetch(every, ahead + j);
         let e = b * 4 - segment.e0;
         // every store below writes lanes e..e + 4 of one of the eight arrays of `stride` numbers
         assert!(e + 4 <= stride, "block {b} past the buffer of {stride} elements");
@@ -77,19 +81,8 @@ pub(super) fn segment(k: &MappedStiffness, blocks: &[Shapes<4>], segment: &Segme
     }
 }
 
-/// Blocks ahead whose shapes [`segment`] asks the cache for.
+/// Blocks ahead whose shapes (three cache lines each) [`segment`] asks the cache for.
 const AHEAD: usize = 4;
-
-/// Asks the cache for the three lines of a block's shapes (a hint: it reads nothing, and an
-/// address past the shapes is not an error).
-#[inline]
-#[target_feature(enable = "avx2")]
-fn prefetch(shape: *const Shapes<4>) {
-    let p = shape.cast::<i8>();
-    _mm_prefetch::<_MM_HINT_T0>(p);
-    _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(64));
-    _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(128));
-}
 
 /// Nodes 0..4 and nodes 1..=4 of a block, from its five nodes' x, y pairs (ten values) [m]: the
 /// pairs loaded as they lie, then split into x and y lanes by one in-lane unpack and one permute
