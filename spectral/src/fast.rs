@@ -25,6 +25,9 @@ use crate::modes::Modes;
 use crate::profile::Work;
 pub use crate::soe::SoeFit;
 
+#[cfg(target_arch = "x86_64")]
+mod avx2;
+
 /// Per-mode recursion coefficients and states, one contiguous block per mode.
 ///
 /// A kernel is real, so a conjugate pair (z, z̄) with amplitudes (c, c̄) acting on Û = A + iB (A, B
@@ -114,9 +117,10 @@ impl Isa {
 }
 
 /// The modes of one rayon task: for each, its eight input lanes from Û, [`mode_kernel`] over its
-/// `r` poles, and its eight sums. Inlined into each instruction-set build whole, so the kernel's
-/// results go to the sums in registers (a call returned them through memory, read back in
-/// narrower pieces: a store-forwarding stall a mode).
+/// `r` poles, and its eight sums. Inlined whole into the portable and AVX-512 builds, so the
+/// kernel's results go to the sums in registers (a call returned them through memory, read back
+/// in narrower pieces: a store-forwarding stall a mode); the AVX2 build is written in intrinsics
+/// ([`avx2::modes`]).
 #[inline(always)]
 fn modes_kernel(
     r: usize,
@@ -170,19 +174,13 @@ fn modes_avx512((r, z, g, s, e, o): Task<'_>) {
     modes_kernel(r, z, g, s, e, o)
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn modes_avx2((r, z, g, s, e, o): Task<'_>) {
-    modes_kernel(r, z, g, s, e, o)
-}
-
 fn dispatch(isa: Isa, task: Task<'_>) {
     match isa {
         // SAFETY: `Isa::detect` returned these only if the CPU reported the features at run time.
         #[cfg(target_arch = "x86_64")]
         Isa::Avx512 => unsafe { modes_avx512(task) },
         #[cfg(target_arch = "x86_64")]
-        Isa::Avx2 => unsafe { modes_avx2(task) },
+        Isa::Avx2 => unsafe { avx2::modes(task) },
         _ => {
             let (r, z, g, s, e, o) = task;
             modes_kernel(r, z, g, s, e, o)
