@@ -129,8 +129,13 @@ fn bench_height(c: &mut Criterion, rows: usize) {
     let (nodes, touching) = state.contact_nodes();
     let us = |s: f64| 1e6 * s / steps;
     // The bulk phase's wall time holds the sweep and the detection beside it (rayon::join): the
-    // work of the step, summed over threads, counts the detection once more.
-    let work = total + beside;
+    // work of the step, summed over threads, counts the detection once more. On one thread the
+    // detection runs inline, after the sweep, inside that wall time: it is counted once.
+    let work = if rayon::current_num_threads() > 1 {
+        total + beside
+    } else {
+        total
+    };
     eprintln!(
         "contact_scale/rows_{rows}: {} elements, {nodes} contact nodes ({touching} touching), {steps} steps: \
          step {:.1} us, bulk phase {:.1} us, detection beside the sweep {:.1} us, contact phase {:.1} us; \
