@@ -304,16 +304,11 @@ pub(crate) fn resolve(
     let frictionless_law = |i: usize| frictionless.get(i).copied().unwrap_or(false);
     let (grid, frames, area_sum, normal) = (&ws.grid, &ws.frames, &ws.area_sum, &ws.normal);
     let (history, regularized, touched) = (&state.history, &state.regularized_pressure, &state.touched);
-    // each slave's result written in its slot in place (collected, it went through a copy)
-    if ws.detected.len() != nodes.len() {
-        ws.detected.resize(nodes.len(), Detected::Lost(false));
-    }
-    ws.detected
-        .par_iter_mut()
-        .zip(nodes.par_iter())
+    nodes
+        .par_iter()
         .enumerate()
         .with_min_len(1024)
-        .for_each(|(k, (slot, &node))| {
+        .map(|(k, &node)| {
             let i = node as usize;
             let slave = Slave {
                 node,
@@ -329,7 +324,7 @@ pub(crate) fn resolve(
                 let cell = grid.candidates(x[i]);
                 (found, lost) = closest_master_or_depth(&slave, cell, segments, frames, x, &limits);
             }
-            *slot = found.map_or(Detected::Lost(lost), |(e, proj)| {
+            found.map_or(Detected::Lost(lost), |(e, proj)| {
                 let segment = segments[e as usize];
                 let law = if frictionless_law(i) { &no_friction } else { &law };
                 let area = area_sum[i].norm();
@@ -342,8 +337,9 @@ pub(crate) fn resolve(
                     x,
                 );
                 Detected::Hit { segment, proj, r }
-            });
-        });
+            })
+        })
+        .collect_into_vec(&mut ws.detected);
     let mut summary = ContactSummary::default();
     for (k, (&node, detected)) in nodes.iter().zip(&ws.detected).enumerate() {
         if let Some(&ahead) = nodes.get(k + AHEAD) {
