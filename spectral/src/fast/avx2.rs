@@ -4,7 +4,7 @@
 //! eight lanes take two registers here, lanes 0–3 (the x sequences) and 4–7 (the y sequences).
 //! Left to the compiler, the lane code kept the K12 sums in the order of [`ModeSums`] and paid
 //! four lane-crossing shuffles a pole for it; here they stay in lane order and are put in the
-//! order of [`ModeSums`] once a mode (docs/performance.md, "The recursion in intrinsics").
+//! order of [`ModeSums`] once a mode (docs/performance.md, "The recursion in intrinsics (AVX2)").
 
 use std::arch::x86_64::{
     __m256d, _mm_storeu_pd, _mm256_add_pd, _mm256_broadcast_sd, _mm256_castpd256_pd128,
