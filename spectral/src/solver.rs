@@ -6,9 +6,9 @@ use rayon::prelude::*;
 
 use crate::elastodynamics::{FaceFields, HalfSpaceParams, HalfSpaces, Operator};
 use crate::error::BuildError;
-use crate::law::Impedances;
 use crate::law::cohesive::{CohesiveParams, Strength};
-use crate::law::point::{self, Drive, Point, PointLaw};
+use crate::law::point::{self, Drive, Drives, Point, PointLaw};
+use crate::law::{Impedances, LawBuild};
 use crate::loading;
 use crate::profile::{Clock, Phase, StepWork, Work};
 use crate::scene::{InitialInterface, Scene, Solid};
@@ -22,6 +22,8 @@ pub(crate) struct Model {
     pub on_precrack: Vec<bool>,
     /// The per-point law: cohesion, impedances, friction and its rule.
     pub law: PointLaw,
+    /// How the law runs over the points (four at a time where the CPU allows; the same bits).
+    pub law_build: LawBuild,
     pub v_limit: f64,
     pub nucleation: Vec<f64>,
     pub scene: Scene,
@@ -107,6 +109,7 @@ pub(crate) fn build(scene: &Scene) -> Result<(Model, State, Workspace), BuildErr
             contact: scene.contact,
             rule: scene.contact_friction,
         },
+        law_build: LawBuild::detect(),
         v_limit: {
             // Blow-up guard: 1e3 × the largest particle velocity the loads and strengths can drive (σ/Z).
             let peak = [
@@ -235,24 +238,53 @@ pub(crate) fn work(model: &Model, ws: &Workspace) -> StepWork {
 }
 
 /// Interface law at the points `first..first + points.len()` (§5.4): at each, the dynamic
-/// stresses S^± = T^0 + f^± and the jumps δ^n, then [`point::step`]. Returns the first point
-/// whose velocity blew up, if any.
+/// stresses S^± = T^0 + f^± and the jumps δ^n, then [`point::step`], four points at a time where
+/// `model.law_build` allows ([`law::avx2`](crate::law::avx2)). Returns the first point whose
+/// velocity blew up, if any.
 fn solve_points(
     model: &Model,
-    (sxy, syy): (f64, f64),
+    load: (f64, f64),
     first: usize,
     f: &FaceFields,
     u: &FaceFields,
     points: &mut [Point],
 ) -> Option<usize> {
     let r = first..first + points.len();
-    // the inputs as slices of the chunk's length: zipped, the loop checks no index
-    let shear = f.top_x[r.clone()].iter().zip(&f.bottom_x[r.clone()]);
-    let normal = f.top_y[r.clone()].iter().zip(&f.bottom_y[r.clone()]);
-    let opening = u.top_y[r.clone()].iter().zip(&u.bottom_y[r.clone()]);
-    let slip = u.top_x[r.clone()].iter().zip(&u.bottom_x[r.clone()]);
+    let d = Drives {
+        load,
+        nucleation: &model.nucleation[r.clone()],
+        f_top_x: &f.top_x[r.clone()],
+        f_bottom_x: &f.bottom_x[r.clone()],
+        f_top_y: &f.top_y[r.clone()],
+        f_bottom_y: &f.bottom_y[r.clone()],
+        u_top_x: &u.top_x[r.clone()],
+        u_bottom_x: &u.bottom_x[r.clone()],
+        u_top_y: &u.top_y[r.clone()],
+        u_bottom_y: &u.bottom_y[r],
+    };
+    let (done, blown) = match model.law_build {
+        // SAFETY: `LawBuild::detect` chose AVX2 only if the CPU reported it at run time.
+        #[cfg(target_arch = "x86_64")]
+        LawBuild::Avx2 => unsafe { crate::law::avx2::solve(&model.law, model.v_limit, &d, points) },
+        _ => (0, None),
+    };
+    let rest = solve_points_one_by_one(model, &d, done, &mut points[done..]);
+    // the four-point groups come first, so a blown point among them is the first
+    blown.or(rest.map(|i| done + i)).map(|i| first + i)
+}
+
+/// [`point::step`] at each point of `points`, whose loads are those of `d` from `offset` on: the
+/// index in `points` of the first point whose velocity blew up, if any.
+fn solve_points_one_by_one(model: &Model, d: &Drives, offset: usize, points: &mut [Point]) -> Option<usize> {
+    let (sxy, syy) = d.load;
+    let o = offset..;
+    // the inputs as slices of the points' length: zipped, the loop checks no index
+    let shear = d.f_top_x[o.clone()].iter().zip(&d.f_bottom_x[o.clone()]);
+    let normal = d.f_top_y[o.clone()].iter().zip(&d.f_bottom_y[o.clone()]);
+    let opening = d.u_top_y[o.clone()].iter().zip(&d.u_bottom_y[o.clone()]);
+    let slip = d.u_top_x[o.clone()].iter().zip(&d.u_bottom_x[o.clone()]);
     let mut blown = None;
-    let inputs = shear.zip(normal).zip(opening.zip(slip)).zip(&model.nucleation[r]);
+    let inputs = shear.zip(normal).zip(opening.zip(slip)).zip(&d.nucleation[o]);
     for (i, (p, (((fx, fy), (uy, ux)), &nucleation))) in points.iter_mut().zip(inputs).enumerate() {
         let t01 = sxy + nucleation;
         let drive = Drive {
@@ -281,12 +313,11 @@ fn solve_points(
         // written so that NaN fails it (a fold with f64::max would drop a NaN)
         let within = p.v.iter().all(|v| v.abs() <= model.v_limit);
         if !within && blown.is_none() {
-            blown = Some(first + i);
+            blown = Some(i);
         }
     }
     blown
 }
-
 /// u^{n+1} = u^n + Δt v^n (§4.2 step 7), [`LAW_CHUNK`] points per rayon task.
 pub(crate) fn advance(model: &Model, st: &mut State) {
     let dt = model.dt;
@@ -323,6 +354,7 @@ pub(crate) fn advance(model: &Model, st: &mut State) {
 mod tests {
     use super::*;
     use crate::law::PointState;
+    use crate::law::point::ContactFriction;
 
     /// The centre crack's model with a nucleation stress that differs at every point, and face
     /// fields that differ at every point and drive every branch of the law: stuck, slipping,
@@ -387,6 +419,100 @@ mod tests {
             assert_eq!(bits(a), bits(b), "point {m}");
             assert_eq!(a, b, "point {m}");
         }
+    }
+
+    /// Every field of a point, as bits.
+    fn bits(p: &Point) -> ([u64; 9], PointState, [bool; 3]) {
+        let v = [
+            p.strength.sigma,
+            p.strength.tau,
+            p.reg_normal,
+            p.traction[0],
+            p.traction[1],
+            p.v[0],
+            p.v[1],
+            p.v[2],
+            p.v[3],
+        ];
+        (
+            v.map(f64::to_bits),
+            p.strength.state,
+            [p.in_contact, p.slipping, p.friction_on],
+        )
+    }
+
+    /// The law four points at a time (AVX2) gives every point the bits of the scalar law, for both
+    /// friction rules, with and without the Prakash regularisation and contact, on groups of four
+    /// whose points take different branches and on groups whose points all take the same one (the
+    /// groups where a branch is skipped), over a run of points that starts and ends inside a
+    /// group (the rest goes one by one), with NaN and infinite loads at some points.
+    #[test]
+    fn the_law_on_four_lanes_gives_the_bits_of_the_scalar_law() {
+        if LawBuild::detect() != LawBuild::Avx2 {
+            eprintln!("no AVX2 on this CPU: nothing to compare");
+            return;
+        }
+        let (mut model, points, mut f, mut u) = model_and_fields();
+        // the second half in blocks of eight equal points: whole groups on one branch
+        let n = model.n;
+        for m in n / 2..n {
+            let b = m - m % 8;
+            for x in [&mut f.top_x, &mut f.bottom_x, &mut f.top_y, &mut f.bottom_y] {
+                x[m] = x[b];
+            }
+            for x in [&mut u.top_x, &mut u.bottom_x, &mut u.top_y, &mut u.bottom_y] {
+                x[m] = x[b];
+            }
+            model.nucleation[m] = model.nucleation[b];
+        }
+        let mut points = points;
+        for (m, p) in points.iter_mut().enumerate().skip(n / 2) {
+            // precut and intact blocks of eight alternate
+            p.strength = if (m / 8) % 2 == 0 {
+                Strength::precut(&model.law.cohesive)
+            } else {
+                Strength::intact(&model.law.cohesive)
+            };
+        }
+        f.top_x[101] = f64::NAN;
+        f.bottom_y[202] = f64::INFINITY;
+        u.top_y[303] = f64::NEG_INFINITY;
+        u.bottom_x[3003] = f64::NAN;
+        let run = 5..n - 6;
+        let mut seen = [0usize; 7];
+        for rule in [ContactFriction::AllFaces, ContactFriction::FailedOnly] {
+            for relax in [None, Some(0.05)] {
+                for contact in [true, false] {
+                    model.law.rule = rule;
+                    model.law.relax = relax;
+                    model.law.contact = contact;
+                    // two steps, so that the second starts from states the first left
+                    let (mut scalar, mut lanes) = (points.clone(), points.clone());
+                    for load in [(0.1e6, -0.05e6), (0.02e6, 0.3e6)] {
+                        model.law_build = LawBuild::Scalar;
+                        let a = solve_points(&model, load, run.start, &f, &u, &mut scalar[run.clone()]);
+                        model.law_build = LawBuild::Avx2;
+                        let b = solve_points(&model, load, run.start, &f, &u, &mut lanes[run.clone()]);
+                        assert_eq!(a, b, "{rule:?} {relax:?} {contact}: the first blown point");
+                        for (m, (a, b)) in scalar.iter().zip(&lanes).enumerate() {
+                            assert_eq!(
+                                bits(a),
+                                bits(b),
+                                "point {m}, {rule:?}, {relax:?}, contact {contact}"
+                            );
+                        }
+                    }
+                    for p in &scalar[run.clone()] {
+                        seen[p.strength.state as usize] += 1;
+                        seen[4] += p.slipping as usize;
+                        seen[5] += !p.slipping as usize;
+                        seen[6] += p.friction_on as usize;
+                    }
+                }
+            }
+        }
+        // every state, slip and stick, friction on and off were met
+        assert!(seen.iter().all(|&c| c > 0), "{seen:?}");
     }
 
     /// The first point that blows up is reported by its index on the interface, whichever chunk

@@ -6,10 +6,35 @@
 //! S^± = T^0 + f^± is the "dynamic stress" of each face: T^± = S^± ∓ Z^± v^±, with each face's
 //! own impedance Z^± (equal for identical half-spaces; docs/spectral-model.md §5.2).
 
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod avx2;
 pub mod cohesive;
 pub mod contact;
 pub mod friction;
 pub mod point;
+
+/// How the solver runs the law over the grid points, chosen once at run time. Both give every
+/// point the same bits ([`avx2`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum LawBuild {
+    /// Four points at once in AVX2 registers, the rest of a run of points one at a time.
+    Avx2,
+    /// One point at a time, [`point::step`].
+    Scalar,
+}
+
+impl LawBuild {
+    /// AVX2 where the CPU reports it, else the scalar law.
+    pub(crate) fn detect() -> LawBuild {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx2") {
+                return LawBuild::Avx2;
+            }
+        }
+        LawBuild::Scalar
+    }
+}
 
 /// The impedances of the two faces in one direction [Pa s/m]: ρc_s of each half-space in shear,
 /// ρc_d in the normal direction.

@@ -55,6 +55,27 @@ pub struct Drive {
     pub slip: f64,
 }
 
+/// The loads of a run of consecutive grid points as the solver holds them, point for point in
+/// each slice: the law builds each point's [`Drive`] from them (S^± = T^0 + T^nuc + f^± for the
+/// shear, S^± = T^0 + f^± for the normal, the jumps from the face displacements).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Drives<'a> {
+    /// Far-field (shear, normal) stresses (T^0_1, T^0_2) at this step [Pa].
+    pub load: (f64, f64),
+    /// Nucleation shear stress added to T^0_1 at each point [Pa].
+    pub nucleation: &'a [f64],
+    /// Dynamic stresses f^± of the two faces, x then y [Pa].
+    pub f_top_x: &'a [f64],
+    pub f_bottom_x: &'a [f64],
+    pub f_top_y: &'a [f64],
+    pub f_bottom_y: &'a [f64],
+    /// Displacements u^± of the two faces, x then y [m].
+    pub u_top_x: &'a [f64],
+    pub u_bottom_x: &'a [f64],
+    pub u_top_y: &'a [f64],
+    pub u_bottom_y: &'a [f64],
+}
+
 /// Per-point interface state and the results of its last step.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Point {
