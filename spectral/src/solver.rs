@@ -7,8 +7,8 @@ use rayon::prelude::*;
 use crate::elastodynamics::{FaceFields, HalfSpaceParams, HalfSpaces, Operator};
 use crate::error::BuildError;
 use crate::law::cohesive::{CohesiveParams, Strength};
-use crate::law::point::{self, Drive, Drives, Point, PointLaw};
-use crate::law::{Impedances, LawBuild};
+use crate::law::point::{Point, PointLaw};
+use crate::law::{self, Drives, Impedances, LawBuild};
 use crate::loading;
 use crate::profile::{Clock, Phase, StepWork, Work};
 use crate::scene::{InitialInterface, Scene, Solid};
@@ -237,10 +237,8 @@ pub(crate) fn work(model: &Model, ws: &Workspace) -> StepWork {
     w
 }
 
-/// Interface law at the points `first..first + points.len()` (§5.4): at each, the dynamic
-/// stresses S^± = T^0 + f^± and the jumps δ^n, then [`point::step`], four points at a time where
-/// `model.law_build` allows ([`law::avx2`](crate::law::avx2)). Returns the first point whose
-/// velocity blew up, if any.
+/// Interface law at the points `first..first + points.len()` (§5.4), [`law::solve_points`] with
+/// their loads: returns the first point whose velocity blew up, if any.
 fn solve_points(
     model: &Model,
     load: (f64, f64),
@@ -262,62 +260,9 @@ fn solve_points(
         u_top_y: &u.top_y[r.clone()],
         u_bottom_y: &u.bottom_y[r],
     };
-    let (done, blown) = match model.law_build {
-        // SAFETY: `LawBuild::detect` chose AVX2 only if the CPU reported it at run time.
-        #[cfg(target_arch = "x86_64")]
-        LawBuild::Avx2 => unsafe { crate::law::avx2::solve(&model.law, model.v_limit, &d, points) },
-        _ => (0, None),
-    };
-    let rest = solve_points_one_by_one(model, &d, done, &mut points[done..]);
-    // the four-point groups come first, so a blown point among them is the first
-    blown.or(rest.map(|i| done + i)).map(|i| first + i)
+    law::solve_points(model.law_build, &model.law, model.v_limit, &d, points).map(|i| first + i)
 }
 
-/// [`point::step`] at each point of `points`, whose loads are those of `d` from `offset` on: the
-/// index in `points` of the first point whose velocity blew up, if any.
-fn solve_points_one_by_one(model: &Model, d: &Drives, offset: usize, points: &mut [Point]) -> Option<usize> {
-    let (sxy, syy) = d.load;
-    let o = offset..;
-    // the inputs as slices of the points' length: zipped, the loop checks no index
-    let shear = d.f_top_x[o.clone()].iter().zip(&d.f_bottom_x[o.clone()]);
-    let normal = d.f_top_y[o.clone()].iter().zip(&d.f_bottom_y[o.clone()]);
-    let opening = d.u_top_y[o.clone()].iter().zip(&d.u_bottom_y[o.clone()]);
-    let slip = d.u_top_x[o.clone()].iter().zip(&d.u_bottom_x[o.clone()]);
-    let mut blown = None;
-    let inputs = shear.zip(normal).zip(opening.zip(slip)).zip(&d.nucleation[o]);
-    for (i, (p, (((fx, fy), (uy, ux)), &nucleation))) in points.iter_mut().zip(inputs).enumerate() {
-        let t01 = sxy + nucleation;
-        let drive = Drive {
-            shear: (t01 + fx.0, t01 + fx.1),
-            normal: (syy + fy.0, syy + fy.1),
-            opening: uy.0 - uy.1,
-            slip: ux.0 - ux.1,
-        };
-        // stored field by field: `*p = step(..)` copies the strength's padding bytes along,
-        // through overlapping 4-byte moves that stall store forwarding at every point
-        let Point {
-            strength: Strength { sigma, tau, state },
-            reg_normal,
-            in_contact,
-            slipping,
-            friction_on,
-            traction,
-            v,
-        } = point::step(&model.law, &drive, p);
-        p.strength.sigma = sigma;
-        p.strength.tau = tau;
-        p.strength.state = state;
-        (p.reg_normal, p.in_contact, p.slipping, p.friction_on) =
-            (reg_normal, in_contact, slipping, friction_on);
-        (p.traction, p.v) = (traction, v);
-        // written so that NaN fails it (a fold with f64::max would drop a NaN)
-        let within = p.v.iter().all(|v| v.abs() <= model.v_limit);
-        if !within && blown.is_none() {
-            blown = Some(i);
-        }
-    }
-    blown
-}
 /// u^{n+1} = u^n + Δt v^n (§4.2 step 7), [`LAW_CHUNK`] points per rayon task.
 pub(crate) fn advance(model: &Model, st: &mut State) {
     let dt = model.dt;
@@ -443,8 +388,8 @@ mod tests {
 
     /// The law four points at a time (AVX2) gives every point the bits of the scalar law, for both
     /// friction rules, with and without the Prakash regularisation and contact, on groups of four
-    /// whose points take different branches and on groups whose points all take the same one (the
-    /// groups where a branch is skipped), over a run of points that starts and ends inside a
+    /// whose points take different branches (broken and intact ones among them) and on groups
+    /// whose points all take the same one (the groups where a branch is skipped), over a run of points that starts and ends inside a
     /// group (the rest goes one by one), with NaN and infinite loads at some points.
     #[test]
     fn the_law_on_four_lanes_gives_the_bits_of_the_scalar_law() {
@@ -466,6 +411,10 @@ mod tests {
             model.nucleation[m] = model.nucleation[b];
         }
         let mut points = points;
+        // broken and intact points alternate in one stretch: groups whose strengths differ
+        for p in points[n / 8..n / 4].iter_mut().step_by(3) {
+            p.strength = Strength::precut(&model.law.cohesive);
+        }
         for (m, p) in points.iter_mut().enumerate().skip(n / 2) {
             // precut and intact blocks of eight alternate
             p.strength = if (m / 8) % 2 == 0 {

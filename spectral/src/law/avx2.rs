@@ -10,7 +10,7 @@
 //! `the_law_on_four_lanes_gives_the_bits_of_the_scalar_law`), with four points' divisions in one
 //! instruction. A branch that none of the four points takes is not computed: away from the
 //! crack, where the faces stick and their jumps stay zero, that leaves three divisions for the
-//! four points.
+//! four points; on the crack, where all four are broken, the damage ratio is not computed.
 
 use std::arch::x86_64::{
     __m256d, _CMP_EQ_OQ, _CMP_GE_OQ, _CMP_LE_OQ, _CMP_LT_OQ, _CMP_UNORD_Q, _mm256_add_pd, _mm256_and_pd,
@@ -225,27 +225,33 @@ fn four(c: &Constants, law: &PointLaw, d: &Lanes, p: &mut [Point]) -> i32 {
     let (sigma, tau, state) = if all(untouched) {
         (sigma, tau, state)
     } else {
-        let (rn, rt) = (
-            _mm256_div_pd(opening, set(q.delta_cn)),
-            _mm256_div_pd(slip, set(q.delta_ct)),
-        );
-        let a = _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(rn, rn), _mm256_mul_pd(rt, rt)));
         let at_residual = cmp_eq(sigma, set(q.sigma_res));
-        let fails = _mm256_or_pd(
-            _mm256_cmp_pd::<_CMP_GE_OQ>(a, one),
-            _mm256_or_pd(at_residual, cmp_eq(tau, set(q.tau_res))),
-        );
+        let residual = _mm256_or_pd(at_residual, cmp_eq(tau, set(q.tau_res)));
+        // the damage ratio decides only where a strength is above its residual (broken points
+        // have both at it)
+        let (fails, softened_sigma, softened_tau) = if all(residual) {
+            (residual, zero, zero)
+        } else {
+            let (rn, rt) = (
+                _mm256_div_pd(opening, set(q.delta_cn)),
+                _mm256_div_pd(slip, set(q.delta_ct)),
+            );
+            let a = _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(rn, rn), _mm256_mul_pd(rt, rt)));
+            (
+                _mm256_or_pd(_mm256_cmp_pd::<_CMP_GE_OQ>(a, one), residual),
+                min(
+                    _mm256_sub_pd(set(q.sigma_max), _mm256_mul_pd(set(c.sigma_drop), a)),
+                    sigma,
+                ),
+                min(
+                    _mm256_sub_pd(set(q.tau_max), _mm256_mul_pd(set(c.tau_drop), a)),
+                    tau,
+                ),
+            )
+        };
         let kept = _mm256_and_pd(at_residual, cmp_lt(opening, set(-f64::EPSILON)));
         let unchanged = _mm256_or_pd(untouched, _mm256_and_pd(fails, kept));
         let to_residual = _mm256_andnot_pd(kept, fails);
-        let softened_sigma = min(
-            _mm256_sub_pd(set(q.sigma_max), _mm256_mul_pd(set(c.sigma_drop), a)),
-            sigma,
-        );
-        let softened_tau = min(
-            _mm256_sub_pd(set(q.tau_max), _mm256_mul_pd(set(c.tau_drop), a)),
-            tau,
-        );
         (
             select(
                 unchanged,

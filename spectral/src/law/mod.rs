@@ -13,11 +13,15 @@ pub mod contact;
 pub mod friction;
 pub mod point;
 
-/// How the solver runs the law over the grid points, chosen once at run time. Both give every
-/// point the same bits ([`avx2`]).
+pub use point::Drives;
+use point::{Drive, Point, PointLaw};
+
+/// How [`solve_points`] runs the law over a run of points. Both give every point the same bits
+/// (`law/avx2.rs`, docs/spectral-model.md §5.4).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum LawBuild {
-    /// Four points at once in AVX2 registers, the rest of a run of points one at a time.
+pub enum LawBuild {
+    /// Four points at once in AVX2 registers (the points left over one at a time), where the CPU
+    /// has AVX2; the scalar law elsewhere.
     Avx2,
     /// One point at a time, [`point::step`].
     Scalar,
@@ -25,15 +29,98 @@ pub(crate) enum LawBuild {
 
 impl LawBuild {
     /// AVX2 where the CPU reports it, else the scalar law.
-    pub(crate) fn detect() -> LawBuild {
-        #[cfg(target_arch = "x86_64")]
-        {
-            if std::arch::is_x86_feature_detected!("avx2") {
-                return LawBuild::Avx2;
-            }
+    pub fn detect() -> LawBuild {
+        if avx2_available() {
+            LawBuild::Avx2
+        } else {
+            LawBuild::Scalar
         }
-        LawBuild::Scalar
     }
+}
+
+fn avx2_available() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
+/// One step of the law at every point of `points` (docs/spectral-model.md §5.4), with the loads
+/// of `d` point for point ([`point::step`] at each): returns the index in `points` of the first
+/// point whose face velocity is not finite or exceeds `v_limit` [m/s], if any. `build` chooses how
+/// ([`LawBuild`]); every choice gives the same bits.
+pub fn solve_points(
+    build: LawBuild,
+    law: &PointLaw,
+    v_limit: f64,
+    d: &Drives<'_>,
+    points: &mut [Point],
+) -> Option<usize> {
+    let (done, blown) = match build {
+        // SAFETY: the CPU reported AVX2 at run time (a cached check).
+        #[cfg(target_arch = "x86_64")]
+        LawBuild::Avx2 if avx2_available() => unsafe { avx2::solve(law, v_limit, d, points) },
+        _ => (0, None),
+    };
+    // the four-point groups come first, so a blown point among them is the first
+    let rest = one_by_one(law, v_limit, d, done, &mut points[done..]);
+    blown.or(rest.map(|i| done + i))
+}
+
+/// [`point::step`] at each point of `points`, whose loads are those of `d` from `offset` on: the
+/// index in `points` of the first point whose velocity blew up, if any.
+fn one_by_one(
+    law: &PointLaw,
+    v_limit: f64,
+    d: &Drives,
+    offset: usize,
+    points: &mut [Point],
+) -> Option<usize> {
+    let (sxy, syy) = d.load;
+    let o = offset..;
+    // the inputs as slices of the points' length: zipped, the loop checks no index
+    let shear = d.f_top_x[o.clone()].iter().zip(&d.f_bottom_x[o.clone()]);
+    let normal = d.f_top_y[o.clone()].iter().zip(&d.f_bottom_y[o.clone()]);
+    let opening = d.u_top_y[o.clone()].iter().zip(&d.u_bottom_y[o.clone()]);
+    let slip = d.u_top_x[o.clone()].iter().zip(&d.u_bottom_x[o.clone()]);
+    let mut blown = None;
+    let inputs = shear.zip(normal).zip(opening.zip(slip)).zip(&d.nucleation[o]);
+    for (i, (p, (((fx, fy), (uy, ux)), &nucleation))) in points.iter_mut().zip(inputs).enumerate() {
+        let t01 = sxy + nucleation;
+        let drive = Drive {
+            shear: (t01 + fx.0, t01 + fx.1),
+            normal: (syy + fy.0, syy + fy.1),
+            opening: uy.0 - uy.1,
+            slip: ux.0 - ux.1,
+        };
+        // stored field by field: `*p = step(..)` copies the strength's padding bytes along,
+        // through overlapping 4-byte moves that stall store forwarding at every point
+        let Point {
+            strength: cohesive::Strength { sigma, tau, state },
+            reg_normal,
+            in_contact,
+            slipping,
+            friction_on,
+            traction,
+            v,
+        } = point::step(law, &drive, p);
+        p.strength.sigma = sigma;
+        p.strength.tau = tau;
+        p.strength.state = state;
+        (p.reg_normal, p.in_contact, p.slipping, p.friction_on) =
+            (reg_normal, in_contact, slipping, friction_on);
+        (p.traction, p.v) = (traction, v);
+        // written so that NaN fails it (a fold with f64::max would drop a NaN)
+        let within = p.v.iter().all(|v| v.abs() <= v_limit);
+        if !within && blown.is_none() {
+            blown = Some(i);
+        }
+    }
+    blown
 }
 
 /// The impedances of the two faces in one direction [Pa s/m]: ρc_s of each half-space in shear,

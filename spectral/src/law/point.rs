@@ -59,20 +59,26 @@ pub struct Drive {
 /// each slice: the law builds each point's [`Drive`] from them (S^± = T^0 + T^nuc + f^± for the
 /// shear, S^± = T^0 + f^± for the normal, the jumps from the face displacements).
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Drives<'a> {
+pub struct Drives<'a> {
     /// Far-field (shear, normal) stresses (T^0_1, T^0_2) at this step [Pa].
     pub load: (f64, f64),
     /// Nucleation shear stress added to T^0_1 at each point [Pa].
     pub nucleation: &'a [f64],
-    /// Dynamic stresses f^± of the two faces, x then y [Pa].
+    /// Dynamic stress f^+_1 of the top face [Pa].
     pub f_top_x: &'a [f64],
+    /// Dynamic stress f^-_1 of the bottom face [Pa].
     pub f_bottom_x: &'a [f64],
+    /// Dynamic stress f^+_2 of the top face [Pa].
     pub f_top_y: &'a [f64],
+    /// Dynamic stress f^-_2 of the bottom face [Pa].
     pub f_bottom_y: &'a [f64],
-    /// Displacements u^± of the two faces, x then y [m].
+    /// Displacement u^+_1 of the top face [m].
     pub u_top_x: &'a [f64],
+    /// Displacement u^-_1 of the bottom face [m].
     pub u_bottom_x: &'a [f64],
+    /// Displacement u^+_2 of the top face [m].
     pub u_top_y: &'a [f64],
+    /// Displacement u^-_2 of the bottom face [m].
     pub u_bottom_y: &'a [f64],
 }
 
