@@ -346,21 +346,6 @@ mod tests {
         }
         assert!(serial.iter().any(|p| p.slipping) && serial.iter().any(|p| !p.slipping));
         for (m, (a, b)) in serial.iter().zip(&chunked).enumerate() {
-            let bits = |p: &Point| {
-                let v = [
-                    p.strength.sigma,
-                    p.strength.tau,
-                    p.reg_normal,
-                    p.traction[0],
-                    p.traction[1],
-                ];
-                (
-                    v.map(f64::to_bits),
-                    p.v.map(f64::to_bits),
-                    p.strength.state,
-                    p.slipping,
-                )
-            };
             assert_eq!(bits(a), bits(b), "point {m}");
             assert_eq!(a, b, "point {m}");
         }

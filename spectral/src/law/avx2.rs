@@ -34,19 +34,7 @@ pub(crate) fn solve(
     d: &Drives<'_>,
     points: &mut [Point],
 ) -> (usize, Option<usize>) {
-    let n = [
-        d.nucleation.len(),
-        d.f_top_x.len(),
-        d.f_bottom_x.len(),
-        d.f_top_y.len(),
-        d.f_bottom_y.len(),
-        d.u_top_x.len(),
-        d.u_bottom_x.len(),
-        d.u_top_y.len(),
-        d.u_bottom_y.len(),
-    ]
-    .into_iter()
-    .fold(points.len(), usize::min);
+    let n = d.lengths().into_iter().fold(points.len(), usize::min);
     let c = Constants::new(law, v_limit, d.load);
     let mut blown = None;
     let mut i = 0;

@@ -53,6 +53,9 @@ fn avx2_available() -> bool {
 /// of `d` point for point ([`point::step`] at each): returns the index in `points` of the first
 /// point whose face velocity is not finite or exceeds `v_limit` [m/s], if any. `build` chooses how
 /// ([`LawBuild`]); every choice gives the same bits.
+///
+/// # Panics
+/// If a slice of `d` is not as long as `points`.
 pub fn solve_points(
     build: LawBuild,
     law: &PointLaw,
@@ -60,6 +63,12 @@ pub fn solve_points(
     d: &Drives<'_>,
     points: &mut [Point],
 ) -> Option<usize> {
+    assert!(
+        d.lengths().iter().all(|&l| l == points.len()),
+        "the loads of {} points for {} points",
+        d.lengths().iter().min().unwrap_or(&0),
+        points.len()
+    );
     let (done, blown) = match build {
         // SAFETY: the CPU reported AVX2 at run time (a cached check).
         #[cfg(target_arch = "x86_64")]
@@ -176,5 +185,44 @@ impl PointState {
     /// Fully broken (ind ∈ {2, 3}).
     pub fn is_broken(self) -> bool {
         self >= PointState::Broken
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::cohesive::{CohesiveParams, Strength};
+    use super::point::ContactFriction;
+    use super::*;
+
+    /// Loads for fewer points than given are refused, not read short.
+    #[test]
+    #[should_panic(expected = "the loads of 3 points for 4 points")]
+    fn loads_shorter_than_the_points_are_refused() {
+        let cohesive = CohesiveParams::from_paper(0.4e6, 1e-4, 1.0, 1.0);
+        let law = PointLaw {
+            cohesive,
+            z_shear: Impedances::equal(1.8e5),
+            z_normal: Impedances::equal(3.7e5),
+            dt: 1e-6,
+            friction_coeff: 0.3,
+            relax: None,
+            contact: true,
+            rule: ContactFriction::AllFaces,
+        };
+        let (short, full) = ([0.0; 3], [0.0; 4]);
+        let d = Drives {
+            load: (0.0, 0.0),
+            nucleation: &full,
+            f_top_x: &full,
+            f_bottom_x: &full,
+            f_top_y: &full,
+            f_bottom_y: &full,
+            u_top_x: &full,
+            u_bottom_x: &full,
+            u_top_y: &short,
+            u_bottom_y: &full,
+        };
+        let mut points = [Point::at_rest(Strength::intact(&cohesive)); 4];
+        solve_points(LawBuild::detect(), &law, 1e3, &d, &mut points);
     }
 }

@@ -82,6 +82,23 @@ pub struct Drives<'a> {
     pub u_bottom_y: &'a [f64],
 }
 
+impl Drives<'_> {
+    /// The lengths of the nine slices.
+    pub fn lengths(&self) -> [usize; 9] {
+        [
+            self.nucleation.len(),
+            self.f_top_x.len(),
+            self.f_bottom_x.len(),
+            self.f_top_y.len(),
+            self.f_bottom_y.len(),
+            self.u_top_x.len(),
+            self.u_bottom_x.len(),
+            self.u_top_y.len(),
+            self.u_bottom_y.len(),
+        ]
+    }
+}
+
 /// Per-point interface state and the results of its last step.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Point {
