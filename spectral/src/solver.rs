@@ -374,8 +374,9 @@ mod tests {
     /// The law four points at a time (AVX2) gives every point the bits of the scalar law, for both
     /// friction rules, with and without the Prakash regularisation and contact, on groups of four
     /// whose points take different branches (broken and intact ones among them) and on groups
-    /// whose points all take the same one (the groups where a branch is skipped), over a run of points that starts and ends inside a
-    /// group (the rest goes one by one), with NaN and infinite loads at some points.
+    /// whose points all take the same one (the groups where a branch is skipped), over a run of
+    /// points that starts and ends inside a group (the rest goes one by one), with NaN and
+    /// infinite loads at some points.
     #[test]
     fn the_law_on_four_lanes_gives_the_bits_of_the_scalar_law() {
         if LawBuild::detect() != LawBuild::Avx2 {
@@ -413,7 +414,7 @@ mod tests {
         u.top_y[303] = f64::NEG_INFINITY;
         u.bottom_x[3003] = f64::NAN;
         let run = 5..n - 6;
-        let mut seen = [0usize; 7];
+        let mut seen = [0usize; 8];
         for rule in [ContactFriction::AllFaces, ContactFriction::FailedOnly] {
             for relax in [None, Some(0.05)] {
                 for contact in [true, false] {
@@ -441,6 +442,7 @@ mod tests {
                         seen[4] += p.slipping as usize;
                         seen[5] += !p.slipping as usize;
                         seen[6] += p.friction_on as usize;
+                        seen[7] += !p.friction_on as usize;
                     }
                 }
             }

@@ -34,7 +34,9 @@ pub(crate) fn solve(
     d: &Drives<'_>,
     points: &mut [Point],
 ) -> (usize, Option<usize>) {
-    let n = d.lengths().into_iter().fold(points.len(), usize::min);
+    // the caller checked that every slice of `d` is as long as `points`; the loads below are
+    // bounds-checked all the same
+    let n = points.len();
     let c = Constants::new(law, v_limit, d.load);
     let mut blown = None;
     let mut i = 0;
@@ -87,7 +89,7 @@ struct Constants {
     /// σ_max − σ_res and τ_max − τ_res [Pa].
     sigma_drop: f64,
     tau_drop: f64,
-    /// (Z^-/ΣZ, Z^+/ΣZ, ΣZ) for the normal and the shear solve.
+    /// (Z^-/ΣZ, Z^+/ΣZ, ΣZ) for the normal and the shear solve ([`Impedances::stick_weights`]).
     normal: (f64, f64, f64),
     shear: (f64, f64, f64),
 }
@@ -95,8 +97,8 @@ struct Constants {
 impl Constants {
     fn new(law: &PointLaw, v_limit: f64, (sxy, syy): (f64, f64)) -> Constants {
         let weights = |z: Impedances| {
-            let sum = z.sum();
-            (z.bottom / sum, z.top / sum, z.sum())
+            let (w_top, w_bottom) = z.stick_weights();
+            (w_top, w_bottom, z.sum())
         };
         let p = &law.cohesive;
         Constants {

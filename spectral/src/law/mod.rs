@@ -157,8 +157,15 @@ impl Impedances {
     /// [Pa], from S^+ − Z^+ v = S^- + Z^- v. With equal impedances the weights are exactly 1/2, so
     /// this is (S^+ + S^-)/2 to the bit.
     pub fn stick_traction(&self, s_top: f64, s_bottom: f64) -> f64 {
+        let (w_top, w_bottom) = self.stick_weights();
+        w_top * s_top + w_bottom * s_bottom
+    }
+
+    /// The weights of [`stick_traction`](Impedances::stick_traction): (Z^-/(Z^+ + Z^-),
+    /// Z^+/(Z^+ + Z^-)) [-], for S^+ and S^- (the four-point law takes them from here too).
+    pub fn stick_weights(&self) -> (f64, f64) {
         let sum = self.sum();
-        (self.bottom / sum) * s_top + (self.top / sum) * s_bottom
+        (self.bottom / sum, self.top / sum)
     }
 
     /// The common velocity of two stuck faces, v = (S^+ − S^-)/(Z^+ + Z^-) [m/s].
