@@ -6,8 +6,8 @@
 //! rule and the same discrete operator as K_e u_e, checked to round-off by a test).
 //!
 //! The elements of a row are computed in blocks of W consecutive elements, one lane each: W = 8,
-//! one AVX-512 register a quantity, where the CPU has AVX-512F, else W = 4, one AVX2 register
-//! (that build written in intrinsics, `avx2`) or the portable build. The width is chosen once,
+//! one AVX-512 register a quantity, where the CPU has AVX-512F, else W = 4, one AVX2 register, or
+//! the portable build (the AVX-512 and AVX2 builds written in intrinsics, `avx512` and `avx2`). The width is chosen once,
 //! when the stiffness is built, and the shapes are stored in blocks of that width, so that
 //! either reads them contiguously. Every lane takes
 //! the same IEEE operations in the same order (no fused multiply-add), so the bits do not depend
@@ -18,6 +18,8 @@
 
 #[cfg(target_arch = "x86_64")]
 mod avx2;
+#[cfg(target_arch = "x86_64")]
+mod avx512;
 
 use crate::mesh::structured::Grid;
 use nalgebra::Vector2;
@@ -470,17 +472,12 @@ fn segment_forces(k: &MappedStiffness, segment: &Segment<'_>, out: &mut [f64]) {
     }
 }
 
-/// `$name`: [`segment_portable`] on blocks of `$w`, compiled with the CPU feature `$feature`.
-macro_rules! segment_built_for {
-    ($name:ident, $feature:literal, $w:literal) => {
-        #[cfg(target_arch = "x86_64")]
-        #[target_feature(enable = $feature)]
-        fn $name(k: &MappedStiffness, blocks: &[Shapes<$w>], segment: &Segment<'_>, out: &mut [f64]) {
-            segment_portable::<$w>(k, blocks, segment, out)
-        }
-    };
+/// The eight-lane build, written in AVX-512F intrinsics ([`avx512`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn segment_avx512(k: &MappedStiffness, blocks: &[Shapes<8>], segment: &Segment<'_>, out: &mut [f64]) {
+    avx512::segment(k, blocks, segment, out)
 }
-segment_built_for!(segment_avx512, "avx512f", 8);
 
 /// The four-lane build, written in AVX2 intrinsics ([`avx2`]).
 #[cfg(target_arch = "x86_64")]
