@@ -7,7 +7,8 @@
 //!
 //! The elements of a row are computed in blocks of W consecutive elements, one lane each: W = 8,
 //! one AVX-512 register a quantity, where the CPU has AVX-512F, else W = 4, one AVX2 register, or
-//! the portable build (the AVX-512 and AVX2 builds written in intrinsics, `avx512` and `avx2`). The width is chosen once,
+//! the portable build (the AVX-512 and AVX2 builds written in intrinsics, `avx512` and `avx2`,
+//! from one macro, `intrinsics`). The width is chosen once,
 //! when the stiffness is built, and the shapes are stored in blocks of that width, so that
 //! either reads them contiguously. Every lane takes
 //! the same IEEE operations in the same order (no fused multiply-add), so the bits do not depend
@@ -16,6 +17,9 @@
 //! into its two layers ([`layer_from_rows`]) in the order of the separate force pass
 //! ([`internal_forces`]), so both give the same bits (docs/performance.md, "Mapped meshes").
 
+#[cfg(target_arch = "x86_64")]
+#[macro_use]
+mod intrinsics;
 #[cfg(target_arch = "x86_64")]
 mod avx2;
 #[cfg(target_arch = "x86_64")]
