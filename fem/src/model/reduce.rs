@@ -32,7 +32,7 @@ pub(crate) fn ordered_sum(n: usize, term: impl Fn(usize) -> f64 + Sync) -> f64 {
                 .unwrap_or(0);
             let mut sums = [std::iter::empty::<f64>().sum::<f64>(); INTERLEAVED];
             for k in 0..common {
-                for (q, s) in sums.iter_mut().enumerate() {
+                for (q, s) in sums[..group.len()].iter_mut().enumerate() {
                     *s += term((first + q) * size + k);
                 }
             }
