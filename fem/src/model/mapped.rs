@@ -460,7 +460,7 @@ fn segment_forces(k: &MappedStiffness, segment: &Segment<'_>, out: &mut [f64]) {
             if k.simd {
                 // SAFETY: `simd` is true for eight lanes only if the CPU reported AVX-512F at run
                 // time (`MappedStiffness::with_width`).
-                return unsafe { segment_avx512(k, blocks, segment, out) };
+                return unsafe { avx512::segment(k, blocks, segment, out) };
             }
             segment_portable(k, blocks, segment, out)
         }
@@ -469,25 +469,11 @@ fn segment_forces(k: &MappedStiffness, segment: &Segment<'_>, out: &mut [f64]) {
             if k.simd {
                 // SAFETY: `simd` is true for four lanes only if the CPU reported AVX2 at run time
                 // (`MappedStiffness::with_width`).
-                return unsafe { segment_avx2(k, blocks, segment, out) };
+                return unsafe { avx2::segment(k, blocks, segment, out) };
             }
             segment_portable(k, blocks, segment, out)
         }
     }
-}
-
-/// The eight-lane build, written in AVX-512F intrinsics ([`avx512`]).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-fn segment_avx512(k: &MappedStiffness, blocks: &[Shapes<8>], segment: &Segment<'_>, out: &mut [f64]) {
-    avx512::segment(k, blocks, segment, out)
-}
-
-/// The four-lane build, written in AVX2 intrinsics ([`avx2`]).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn segment_avx2(k: &MappedStiffness, blocks: &[Shapes<4>], segment: &Segment<'_>, out: &mut [f64]) {
-    avx2::segment(k, blocks, segment, out)
 }
 
 /// Nodes 0..W and nodes 1..=W of a block, from the `W + 1` nodes of a displacement row (x, y
