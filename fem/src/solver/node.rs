@@ -73,7 +73,7 @@ pub(crate) struct Span<'a> {
 
 /// [`advance`] node by node from node `k` on.
 #[inline(always)]
-fn advance_from(nodes: Span<'_>, dt: f64, vmax2: &mut f64, k: usize) {
+pub(crate) fn advance_from(nodes: Span<'_>, dt: f64, vmax2: &mut f64, k: usize) {
     let Span { u, v, f, m } = nodes;
     for (((u, v), f), &m) in u
         .iter_mut()
@@ -93,7 +93,7 @@ fn advance_from(nodes: Span<'_>, dt: f64, vmax2: &mut f64, k: usize) {
 /// below ∞) sets a flag that makes the result ∞, as [`track_vmax2`] does.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn advance_avx2(nodes: Span<'_>, dt: f64, vmax2: &mut f64) {
+pub(crate) fn advance_avx2(nodes: Span<'_>, dt: f64, vmax2: &mut f64) {
     use std::arch::x86_64::{
         _CMP_NLT_UQ, _mm_loaddup_pd, _mm256_add_pd, _mm256_castpd_si256, _mm256_cmp_pd, _mm256_div_pd,
         _mm256_loadu_pd, _mm256_max_pd, _mm256_mul_pd, _mm256_or_pd, _mm256_permute_pd, _mm256_set_m128d,
@@ -152,7 +152,7 @@ fn advance_avx2(nodes: Span<'_>, dt: f64, vmax2: &mut f64) {
 /// one-node path.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
-fn advance_avx512(nodes: Span<'_>, dt: f64, vmax2: &mut f64) {
+pub(crate) fn advance_avx512(nodes: Span<'_>, dt: f64, vmax2: &mut f64) {
     use std::arch::x86_64::{
         _CMP_NLT_UQ, _mm256_loadu_pd, _mm512_add_pd, _mm512_castpd256_pd512, _mm512_cmp_pd_mask,
         _mm512_div_pd, _mm512_loadu_pd, _mm512_max_pd, _mm512_mul_pd, _mm512_permute_pd,
