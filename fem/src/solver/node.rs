@@ -86,128 +86,140 @@ pub(crate) fn advance_from(nodes: Span<'_>, dt: f64, vmax2: &mut f64, k: usize) 
     }
 }
 
-/// [`advance_all`] two nodes at a time in four lanes (x, y, x', y'): a = f/m, v += ½Δt a,
-/// |v|² = v_x² + v_y² (the pairs swapped in-lane and added, an exact reordering), then
-/// u += Δt v + (½Δt)Δt a and v += ½Δt a. The running maximum is kept per lane with
-/// `max(|v|², max)`, which passes over a NaN; a lane that is not finite (NaN, or ∞: not
-/// below ∞) sets a flag that makes the result ∞, as [`track_vmax2`] does.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-pub(crate) fn advance_avx2(nodes: Span<'_>, dt: f64, vmax2: &mut f64) {
-    use std::arch::x86_64::{
-        _CMP_NLT_UQ, _mm_loaddup_pd, _mm256_add_pd, _mm256_castpd_si256, _mm256_cmp_pd, _mm256_div_pd,
-        _mm256_loadu_pd, _mm256_max_pd, _mm256_mul_pd, _mm256_or_pd, _mm256_permute_pd, _mm256_set_m128d,
-        _mm256_set1_pd, _mm256_setzero_pd, _mm256_storeu_pd, _mm256_testz_si256,
-    };
-    let Span { u, v, f, m } = nodes;
-    let pairs = u.len() / 2;
-    let (hdt, h2) = (0.5 * dt, 0.5 * dt * dt);
-    let (dtv, hdtv, h2v, inf) = (
-        _mm256_set1_pd(dt),
-        _mm256_set1_pd(hdt),
-        _mm256_set1_pd(h2),
-        _mm256_set1_pd(f64::INFINITY),
-    );
-    let (mut top, mut bad) = (_mm256_setzero_pd(), _mm256_setzero_pd());
-    {
-        let uf: &mut [f64] = bytemuck::cast_slice_mut(u);
-        let vf: &mut [f64] = bytemuck::cast_slice_mut(v);
-        for k in 0..pairs {
-            let (uk, vk, fk) = (
-                &mut uf[4 * k..4 * k + 4],
-                &mut vf[4 * k..4 * k + 4],
-                &f[4 * k..4 * k + 4],
-            );
-            let mk = &m[2 * k..2 * k + 2];
-            // SAFETY: every slice read or written here holds the four (or two) f64 it touches.
-            unsafe {
-                let mass = _mm256_set_m128d(_mm_loaddup_pd(&mk[1]), _mm_loaddup_pd(&mk[0]));
-                let a = _mm256_div_pd(_mm256_loadu_pd(fk.as_ptr()), mass);
-                let half = _mm256_mul_pd(hdtv, a);
-                let vn = _mm256_add_pd(_mm256_loadu_pd(vk.as_ptr()), half);
-                let sq = _mm256_mul_pd(vn, vn);
-                let v2 = _mm256_add_pd(sq, _mm256_permute_pd::<0b0101>(sq));
-                top = _mm256_max_pd(v2, top);
-                bad = _mm256_or_pd(bad, _mm256_cmp_pd::<_CMP_NLT_UQ>(v2, inf));
-                let du = _mm256_add_pd(_mm256_mul_pd(dtv, vn), _mm256_mul_pd(h2v, a));
-                _mm256_storeu_pd(uk.as_mut_ptr(), _mm256_add_pd(_mm256_loadu_pd(uk.as_ptr()), du));
-                _mm256_storeu_pd(vk.as_mut_ptr(), _mm256_add_pd(vn, half));
+/// One vectorised build of [`advance_all`], `$n` nodes a vector of 2`$n` lanes (x, y, x', y', …):
+/// a = f/m, v += ½Δt a, |v|² = v_x² + v_y² (each pair swapped in-lane and added, an exact
+/// reordering), then u += Δt v + (½Δt)Δt a and v += ½Δt a, each lane through the IEEE operations
+/// of [`advance`]. The running maximum is kept per lane with `max(|v|², max)`, which passes over a
+/// NaN; a lane that is not finite (NaN, or ∞: not below ∞) sets a flag that makes the result ∞,
+/// as [`track_vmax2`] does. The last nodes (fewer than `$n`) take the one-node path. A build
+/// gives the operations that differ between instruction sets: `masses` (each node's mass in its
+/// two lanes), `swap` (the pairs swapped), `not_finite`, and the flags' `none`, `or` and `any`.
+macro_rules! advance_in {
+    (
+        $(#[$doc:meta])*
+        $name:ident,
+        feature: $feature:literal,
+        nodes: $n:literal,
+        set1: $set1:ident,
+        zero: $zero:ident,
+        load: $load:ident,
+        store: $store:ident,
+        add: $add:ident,
+        mul: $mul:ident,
+        div: $div:ident,
+        max: $max:ident,
+        masses: |$mk:ident| $masses:expr,
+        swap: |$sw:ident| $swap:expr,
+        not_finite: |$x:ident, $inf:ident| $not_finite:expr,
+        flags: $none:expr, |$fa:ident, $fb:ident| $or:expr, |$fl:ident| $any:expr $(,)?
+    ) => {
+        $(#[$doc])*
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = $feature)]
+        pub(crate) fn $name(nodes: Span<'_>, dt: f64, vmax2: &mut f64) {
+            #[allow(clippy::wildcard_imports)]
+            use std::arch::x86_64::*;
+            let Span { u, v, f, m } = nodes;
+            let groups = u.len() / $n;
+            let (hdt, h2) = (0.5 * dt, 0.5 * dt * dt);
+            let (dtv, hdtv, h2v, inf) = ($set1(dt), $set1(hdt), $set1(h2), $set1(f64::INFINITY));
+            let (mut top, mut bad) = ($zero(), $none);
+            {
+                let uf: &mut [f64] = bytemuck::cast_slice_mut(u);
+                let vf: &mut [f64] = bytemuck::cast_slice_mut(v);
+                for k in 0..groups {
+                    let lanes = 2 * $n * k..2 * $n * (k + 1);
+                    let (uk, vk, fk) = (&mut uf[lanes.clone()], &mut vf[lanes.clone()], &f[lanes]);
+                    let $mk = &m[$n * k..$n * (k + 1)];
+                    // SAFETY: every slice read or written here holds the 2n (or n) f64 it touches.
+                    unsafe {
+                        let mass = $masses;
+                        let a = $div($load(fk.as_ptr()), mass);
+                        let half = $mul(hdtv, a);
+                        let vn = $add($load(vk.as_ptr()), half);
+                        let sq = $mul(vn, vn);
+                        let v2 = $add(sq, {
+                            let $sw = sq;
+                            $swap
+                        });
+                        top = $max(v2, top);
+                        bad = {
+                            let ($fa, $fb) = (bad, {
+                                let ($x, $inf) = (v2, inf);
+                                $not_finite
+                            });
+                            $or
+                        };
+                        let du = $add($mul(dtv, vn), $mul(h2v, a));
+                        $store(uk.as_mut_ptr(), $add($load(uk.as_ptr()), du));
+                        $store(vk.as_mut_ptr(), $add(vn, half));
+                    }
+                }
             }
+            let mut lanes = [0.0f64; 2 * $n];
+            // SAFETY: `lanes` holds the 2n f64 stored.
+            unsafe { $store(lanes.as_mut_ptr(), top) };
+            if {
+                let $fl = bad;
+                $any
+            } {
+                *vmax2 = f64::INFINITY;
+            }
+            for l in lanes {
+                track_vmax2(vmax2, l);
+            }
+            advance_from(Span { u, v, f, m }, dt, vmax2, $n * groups);
         }
-    }
-    let lanes: [f64; 4] = bytemuck::cast(top);
-    let finite = _mm256_testz_si256(_mm256_castpd_si256(bad), _mm256_castpd_si256(bad)) == 1;
-    if !finite {
-        *vmax2 = f64::INFINITY;
-    }
-    for l in lanes {
-        track_vmax2(vmax2, l);
-    }
-    advance_from(Span { u, v, f, m }, dt, vmax2, 2 * pairs);
+    };
 }
 
-/// [`advance_avx2`] on registers twice as wide: four nodes in eight lanes (x, y, x', y', …), the
-/// same operations on the same operands. Each node's mass goes to its two lanes by one permute;
-/// a lane that is not finite sets a bit of a mask. The last nodes (fewer than four) take the
-/// one-node path.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-pub(crate) fn advance_avx512(nodes: Span<'_>, dt: f64, vmax2: &mut f64) {
-    use std::arch::x86_64::{
-        _CMP_NLT_UQ, _mm256_loadu_pd, _mm512_add_pd, _mm512_castpd256_pd512, _mm512_cmp_pd_mask,
-        _mm512_div_pd, _mm512_loadu_pd, _mm512_max_pd, _mm512_mul_pd, _mm512_permute_pd,
-        _mm512_permutexvar_pd, _mm512_set_epi64, _mm512_set1_pd, _mm512_setzero_pd, _mm512_storeu_pd,
-    };
-    let Span { u, v, f, m } = nodes;
-    let quads = u.len() / 4;
-    let (hdt, h2) = (0.5 * dt, 0.5 * dt * dt);
-    let (dtv, hdtv, h2v, inf) = (
-        _mm512_set1_pd(dt),
-        _mm512_set1_pd(hdt),
-        _mm512_set1_pd(h2),
-        _mm512_set1_pd(f64::INFINITY),
-    );
+advance_in!(
+    /// [`advance_all`] two nodes at a time in four AVX2 lanes; a lane that is not finite sets
+    /// the bits of a flag register.
+    advance_avx2,
+    feature: "avx2",
+    nodes: 2,
+    set1: _mm256_set1_pd,
+    zero: _mm256_setzero_pd,
+    load: _mm256_loadu_pd,
+    store: _mm256_storeu_pd,
+    add: _mm256_add_pd,
+    mul: _mm256_mul_pd,
+    div: _mm256_div_pd,
+    max: _mm256_max_pd,
+    masses: |mk| _mm256_set_m128d(_mm_loaddup_pd(&mk[1]), _mm_loaddup_pd(&mk[0])),
+    swap: |x| _mm256_permute_pd::<0b0101>(x),
+    not_finite: |x, inf| _mm256_cmp_pd::<_CMP_NLT_UQ>(x, inf),
+    flags: _mm256_setzero_pd(),
+    |a, b| _mm256_or_pd(a, b),
+    |flag| _mm256_testz_si256(_mm256_castpd_si256(flag), _mm256_castpd_si256(flag)) == 0,
+);
+
+advance_in!(
+    /// [`advance_all`] four nodes at a time in eight AVX-512F lanes: each node's mass goes to
+    /// its two lanes by one permute, and a lane that is not finite sets a bit of a mask.
+    advance_avx512,
+    feature: "avx512f",
+    nodes: 4,
+    set1: _mm512_set1_pd,
+    zero: _mm512_setzero_pd,
+    load: _mm512_loadu_pd,
+    store: _mm512_storeu_pd,
+    add: _mm512_add_pd,
+    mul: _mm512_mul_pd,
+    div: _mm512_div_pd,
+    max: _mm512_max_pd,
     // lane l takes the mass of node l / 2
-    let pairs_of = _mm512_set_epi64(3, 3, 2, 2, 1, 1, 0, 0);
-    let (mut top, mut bad) = (_mm512_setzero_pd(), 0u8);
-    {
-        let uf: &mut [f64] = bytemuck::cast_slice_mut(u);
-        let vf: &mut [f64] = bytemuck::cast_slice_mut(v);
-        for k in 0..quads {
-            let (uk, vk, fk) = (
-                &mut uf[8 * k..8 * k + 8],
-                &mut vf[8 * k..8 * k + 8],
-                &f[8 * k..8 * k + 8],
-            );
-            let mk = &m[4 * k..4 * k + 4];
-            // SAFETY: every slice read or written here holds the eight (or four) f64 it touches.
-            unsafe {
-                let mass =
-                    _mm512_permutexvar_pd(pairs_of, _mm512_castpd256_pd512(_mm256_loadu_pd(mk.as_ptr())));
-                let a = _mm512_div_pd(_mm512_loadu_pd(fk.as_ptr()), mass);
-                let half = _mm512_mul_pd(hdtv, a);
-                let vn = _mm512_add_pd(_mm512_loadu_pd(vk.as_ptr()), half);
-                let sq = _mm512_mul_pd(vn, vn);
-                let v2 = _mm512_add_pd(sq, _mm512_permute_pd::<0b0101_0101>(sq));
-                top = _mm512_max_pd(v2, top);
-                bad |= _mm512_cmp_pd_mask::<_CMP_NLT_UQ>(v2, inf);
-                let du = _mm512_add_pd(_mm512_mul_pd(dtv, vn), _mm512_mul_pd(h2v, a));
-                _mm512_storeu_pd(uk.as_mut_ptr(), _mm512_add_pd(_mm512_loadu_pd(uk.as_ptr()), du));
-                _mm512_storeu_pd(vk.as_mut_ptr(), _mm512_add_pd(vn, half));
-            }
-        }
-    }
-    let mut lanes = [0.0f64; 8];
-    // SAFETY: `lanes` holds the eight f64 stored.
-    unsafe { _mm512_storeu_pd(lanes.as_mut_ptr(), top) };
-    if bad != 0 {
-        *vmax2 = f64::INFINITY;
-    }
-    for l in lanes {
-        track_vmax2(vmax2, l);
-    }
-    advance_from(Span { u, v, f, m }, dt, vmax2, 4 * quads);
-}
+    masses: |mk| _mm512_permutexvar_pd(
+        _mm512_set_epi64(3, 3, 2, 2, 1, 1, 0, 0),
+        _mm512_castpd256_pd512(_mm256_loadu_pd(mk.as_ptr())),
+    ),
+    swap: |x| _mm512_permute_pd::<0b0101_0101>(x),
+    not_finite: |x, inf| _mm512_cmp_pd_mask::<_CMP_NLT_UQ>(x, inf),
+    flags: 0u8,
+    |a, b| a | b,
+    |flag| flag != 0,
+);
 
 #[cfg(test)]
 mod tests {
