@@ -1,7 +1,8 @@
 //! The node update of an unsampled step (`solver::node`): a = f/m, the corrector v += ½Δt a, the
 //! stability guard's max |v|², and the next step's predictor, on consecutive nodes. Each build the
 //! CPU runs (eight lanes with AVX-512F, four with AVX2, node by node), reported per node
-//! (Throughput::Elements), on two sizes:
+//! (Throughput::Elements); and the corrector alone (a sampled step) and the predictor alone (the
+//! step after it), the CPU's widest build against node by node. On two sizes:
 //! - `row_499`: the interior nodes of one layer of the centre crack's grid, as the one-pass sweep
 //!   hands them over, all in the L1 cache;
 //! - `mesh_126000`: about the 125 751 nodes of that grid in one span, 7 MB of u, v, f and m, which
@@ -28,11 +29,15 @@ fn builds() -> Vec<(&'static str, Build)> {
     {
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU reported AVX2 at run time.
-            out.push(("avx2", |s, dt, x| unsafe { node::advance_avx2(s, dt, x) }));
+            out.push(("avx2", |s, dt, x| unsafe {
+                node::update_avx2::<true>(s, &mut [], dt, x)
+            }));
         }
         if std::arch::is_x86_feature_detected!("avx512f") {
             // SAFETY: the CPU reported AVX-512F at run time.
-            out.push(("avx512", |s, dt, x| unsafe { node::advance_avx512(s, dt, x) }));
+            out.push(("avx512", |s, dt, x| unsafe {
+                node::update_avx512::<true>(s, &mut [], dt, x)
+            }));
         }
     }
     out
@@ -65,6 +70,46 @@ fn bench(c: &mut Criterion) {
                 })
             });
         }
+        // the passes of a sampled step (the corrector alone, a stored) and of the step after it
+        // (the predictor alone), as the CPU's widest build and node by node
+        let (mut u, mut v) = (vec![Vector2::zeros(); n], vec![Vector2::zeros(); n]);
+        let mut a = vec![Vector2::zeros(); n];
+        group.bench_function("correct_node_by_node", |b| {
+            b.iter(|| {
+                let mut vmax2 = 0.0;
+                let nodes = Span {
+                    u: &mut u,
+                    v: &mut v,
+                    f: &f,
+                    m: &m,
+                };
+                node::correct_from(nodes, bytemuck::cast_slice_mut(&mut a), dt, &mut vmax2, 0);
+                black_box(vmax2)
+            })
+        });
+        group.bench_function("correct_all", |b| {
+            b.iter(|| {
+                let mut vmax2 = 0.0;
+                let nodes = Span {
+                    u: &mut u,
+                    v: &mut v,
+                    f: &f,
+                    m: &m,
+                };
+                node::correct_all(nodes, &mut a, dt, &mut vmax2);
+                black_box(vmax2)
+            })
+        });
+        group.bench_function("predict_node_by_node", |b| {
+            b.iter(|| {
+                for ((u, v), a) in u.iter_mut().zip(v.iter_mut()).zip(&a) {
+                    node::predict(u, v, a, dt);
+                }
+            })
+        });
+        group.bench_function("predict_all", |b| {
+            b.iter(|| node::predict_all(&mut u, &mut v, &a, dt))
+        });
         group.finish();
     }
 }

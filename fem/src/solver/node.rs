@@ -39,6 +39,23 @@ pub(crate) fn advance(
     predict(u, v, &a, dt);
 }
 
+/// The corrector of one node alone, a = f/m and v += ½Δt a, a stored (a sampled step, or a node
+/// the fused update leaves); |v_{n+1}|² goes to the stability guard. The same IEEE operations as
+/// the corrector within [`advance`].
+#[inline(always)]
+pub(crate) fn correct(
+    a: &mut Vector2<f64>,
+    v: &mut Vector2<f64>,
+    f: Vector2<f64>,
+    m: f64,
+    dt: f64,
+    vmax2: &mut f64,
+) {
+    *a = f / m;
+    *v += 0.5 * dt * *a;
+    track_vmax2(vmax2, v.norm_squared());
+}
+
 /// [`advance`] of consecutive nodes; their largest |v_{n+1}|² joins `vmax2` as [`track_vmax2`]
 /// would take it. With AVX-512F four nodes go through one vector of eight lanes, with AVX2 two
 /// through one of four, each lane through the IEEE operations of [`advance`]; the maximum is the
@@ -49,14 +66,74 @@ pub(crate) fn advance_all(nodes: Span<'_>, dt: f64, vmax2: &mut f64) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx512f") {
         // SAFETY: the CPU reported AVX-512F at run time.
-        return unsafe { advance_avx512(nodes, dt, vmax2) };
+        return unsafe { update_avx512::<true>(nodes, &mut [], dt, vmax2) };
     }
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU reported AVX2 at run time.
-        return unsafe { advance_avx2(nodes, dt, vmax2) };
+        return unsafe { update_avx2::<true>(nodes, &mut [], dt, vmax2) };
     }
     advance_from(nodes, dt, vmax2, 0);
+}
+
+/// [`correct`] of consecutive nodes, their accelerations into `a` (`nodes.u` is left as it is);
+/// the largest |v_{n+1}|² joins `vmax2`. Vectorised as [`advance_all`], each lane through the
+/// IEEE operations of [`correct`].
+pub(crate) fn correct_all(nodes: Span<'_>, a: &mut [Vector2<f64>], dt: f64, vmax2: &mut f64) {
+    let Span { u, v, f, m } = &nodes;
+    assert!(v.len() == u.len() && m.len() == u.len() && f.len() == 2 * u.len() && a.len() == u.len());
+    let a: &mut [f64] = bytemuck::cast_slice_mut(a);
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx512f") {
+        // SAFETY: the CPU reported AVX-512F at run time.
+        return unsafe { update_avx512::<false>(nodes, a, dt, vmax2) };
+    }
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU reported AVX2 at run time.
+        return unsafe { update_avx2::<false>(nodes, a, dt, vmax2) };
+    }
+    correct_from(nodes, a, dt, vmax2, 0);
+}
+
+/// The predictor of consecutive nodes ([`predict`] on each), on the widest vectors the CPU has:
+/// every node through the same IEEE operations, so the same bits on any CPU.
+pub(crate) fn predict_all(u: &mut [Vector2<f64>], v: &mut [Vector2<f64>], a: &[Vector2<f64>], dt: f64) {
+    assert!(v.len() == u.len() && a.len() == u.len());
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx512f") {
+        // SAFETY: the CPU reported AVX-512F at run time.
+        return unsafe { predict_avx512(u, v, a, dt) };
+    }
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU reported AVX2 at run time.
+        return unsafe { predict_avx2(u, v, a, dt) };
+    }
+    predict_each(u, v, a, dt);
+}
+
+/// [`predict`] node by node; the builds below let the compiler vectorise it (the operations per
+/// component are independent, and it contracts nothing into fused multiply-adds).
+#[inline(always)]
+fn predict_each(u: &mut [Vector2<f64>], v: &mut [Vector2<f64>], a: &[Vector2<f64>], dt: f64) {
+    for ((u, v), a) in u.iter_mut().zip(v.iter_mut()).zip(a) {
+        predict(u, v, a, dt);
+    }
+}
+
+/// [`predict_each`] compiled for AVX-512F.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn predict_avx512(u: &mut [Vector2<f64>], v: &mut [Vector2<f64>], a: &[Vector2<f64>], dt: f64) {
+    predict_each(u, v, a, dt);
+}
+
+/// [`predict_each`] compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn predict_avx2(u: &mut [Vector2<f64>], v: &mut [Vector2<f64>], a: &[Vector2<f64>], dt: f64) {
+    predict_each(u, v, a, dt);
 }
 
 /// Consecutive nodes for [`advance_all`].
@@ -69,6 +146,23 @@ pub(crate) struct Span<'a> {
     pub(crate) f: &'a [f64],
     /// Lumped masses [kg/m].
     pub(crate) m: &'a [f64],
+}
+
+/// [`correct`] node by node from node `k` on, the accelerations into `a` (x, y pairs).
+#[inline(always)]
+pub(crate) fn correct_from(nodes: Span<'_>, a: &mut [f64], dt: f64, vmax2: &mut f64, k: usize) {
+    let Span { u: _, v, f, m } = nodes;
+    for (((a, v), f), &m) in a
+        .chunks_exact_mut(2)
+        .zip(v.iter_mut())
+        .zip(f.chunks_exact(2))
+        .zip(m)
+        .skip(k)
+    {
+        let mut acc = Vector2::new(a[0], a[1]);
+        correct(&mut acc, v, Vector2::new(f[0], f[1]), m, dt, vmax2);
+        a.copy_from_slice(acc.as_slice());
+    }
 }
 
 /// [`advance`] node by node from node `k` on.
@@ -86,15 +180,16 @@ pub(crate) fn advance_from(nodes: Span<'_>, dt: f64, vmax2: &mut f64, k: usize) 
     }
 }
 
-/// One vectorised build of [`advance_all`], `$n` nodes a vector of 2`$n` lanes (x, y, x', y', …):
-/// a = f/m, v += ½Δt a, |v|² = v_x² + v_y² (each pair swapped in-lane and added, an exact
-/// reordering), then u += Δt v + (½Δt)Δt a and v += ½Δt a, each lane through the IEEE operations
-/// of [`advance`]. The running maximum is kept per lane with `max(|v|², max)`, which passes over a
-/// NaN; a lane that is not finite (NaN, or ∞: not below ∞) sets a flag that makes the result ∞,
-/// as [`track_vmax2`] does. The last nodes (fewer than `$n`) take the one-node path. A build
-/// gives the operations that differ between instruction sets: `masses` (each node's mass in its
-/// two lanes), `swap` (the pairs swapped), `not_finite`, and the flags' `none`, `or` and `any`.
-macro_rules! advance_in {
+/// One vectorised build of the node update, `$n` nodes a vector of 2`$n` lanes (x, y, x', y', …),
+/// each lane through the IEEE operations of the one-node functions: a = f/m, v += ½Δt a and
+/// |v|² = v_x² + v_y² (each pair swapped in-lane and added, an exact reordering); then, `FUSED`
+/// ([`advance`]), u += Δt v + (½Δt)Δt a and v += ½Δt a, else ([`correct`]) a stored in `a_out`.
+/// The running maximum is kept per lane with `max(|v|², max)`, which passes over a NaN; a lane
+/// that is not finite (NaN, or ∞: not below ∞) sets a flag that makes the result ∞, as
+/// [`track_vmax2`] does. The last nodes (fewer than `$n`) take the one-node path. A build gives
+/// the operations that differ between instruction sets: `masses` (each node's mass in its two
+/// lanes), `swap` (the pairs swapped), `not_finite`, and the flags' `none`, `or` and `any`.
+macro_rules! update_in {
     (
         $(#[$doc:meta])*
         $name:ident,
@@ -116,10 +211,11 @@ macro_rules! advance_in {
         $(#[$doc])*
         #[cfg(target_arch = "x86_64")]
         #[target_feature(enable = $feature)]
-        pub(crate) fn $name(nodes: Span<'_>, dt: f64, vmax2: &mut f64) {
+        pub(crate) fn $name<const FUSED: bool>(nodes: Span<'_>, a_out: &mut [f64], dt: f64, vmax2: &mut f64) {
             #[allow(clippy::wildcard_imports)]
             use std::arch::x86_64::*;
             let Span { u, v, f, m } = nodes;
+            assert!(FUSED || a_out.len() == 2 * u.len());
             let groups = u.len() / $n;
             let (hdt, h2) = (0.5 * dt, 0.5 * dt * dt);
             let (dtv, hdtv, h2v, inf) = ($set1(dt), $set1(hdt), $set1(h2), $set1(f64::INFINITY));
@@ -129,7 +225,7 @@ macro_rules! advance_in {
                 let vf: &mut [f64] = bytemuck::cast_slice_mut(v);
                 for k in 0..groups {
                     let lanes = 2 * $n * k..2 * $n * (k + 1);
-                    let (uk, vk, fk) = (&mut uf[lanes.clone()], &mut vf[lanes.clone()], &f[lanes]);
+                    let (vk, fk) = (&mut vf[lanes.clone()], &f[lanes.clone()]);
                     let $mk = &m[$n * k..$n * (k + 1)];
                     // SAFETY: every slice read or written here holds the 2n (or n) f64 it touches.
                     unsafe {
@@ -150,9 +246,15 @@ macro_rules! advance_in {
                             });
                             $or
                         };
-                        let du = $add($mul(dtv, vn), $mul(h2v, a));
-                        $store(uk.as_mut_ptr(), $add($load(uk.as_ptr()), du));
-                        $store(vk.as_mut_ptr(), $add(vn, half));
+                        if FUSED {
+                            let uk = &mut uf[lanes];
+                            let du = $add($mul(dtv, vn), $mul(h2v, a));
+                            $store(uk.as_mut_ptr(), $add($load(uk.as_ptr()), du));
+                            $store(vk.as_mut_ptr(), $add(vn, half));
+                        } else {
+                            $store(a_out[lanes].as_mut_ptr(), a);
+                            $store(vk.as_mut_ptr(), vn);
+                        }
                     }
                 }
             }
@@ -168,15 +270,20 @@ macro_rules! advance_in {
             for l in lanes {
                 track_vmax2(vmax2, l);
             }
-            advance_from(Span { u, v, f, m }, dt, vmax2, $n * groups);
+            let rest = Span { u, v, f, m };
+            if FUSED {
+                advance_from(rest, dt, vmax2, $n * groups);
+            } else {
+                correct_from(rest, a_out, dt, vmax2, $n * groups);
+            }
         }
     };
 }
 
-advance_in!(
-    /// [`advance_all`] two nodes at a time in four AVX2 lanes; a lane that is not finite sets
-    /// the bits of a flag register.
-    advance_avx2,
+update_in!(
+    /// The node update two nodes at a time in four AVX2 lanes; a lane that is not finite sets the
+    /// bits of a flag register.
+    update_avx2,
     feature: "avx2",
     nodes: 2,
     set1: _mm256_set1_pd,
@@ -195,10 +302,10 @@ advance_in!(
     |flag| _mm256_testz_si256(_mm256_castpd_si256(flag), _mm256_castpd_si256(flag)) == 0,
 );
 
-advance_in!(
-    /// [`advance_all`] four nodes at a time in eight AVX-512F lanes: each node's mass goes to
-    /// its two lanes by one permute, and a lane that is not finite sets a bit of a mask.
-    advance_avx512,
+update_in!(
+    /// The node update four nodes at a time in eight AVX-512F lanes: each node's mass goes to its
+    /// two lanes by one permute, and a lane that is not finite sets a bit of a mask.
+    update_avx512,
     feature: "avx512f",
     nodes: 4,
     set1: _mm512_set1_pd,
@@ -238,11 +345,15 @@ mod tests {
         {
             if std::arch::is_x86_feature_detected!("avx2") {
                 // SAFETY: the CPU reported AVX2 at run time.
-                builds.push(("avx2", |s, dt, x| unsafe { advance_avx2(s, dt, x) }));
+                builds.push(("avx2", |s, dt, x| unsafe {
+                    update_avx2::<true>(s, &mut [], dt, x)
+                }));
             }
             if std::arch::is_x86_feature_detected!("avx512f") {
                 // SAFETY: the CPU reported AVX-512F at run time.
-                builds.push(("avx512", |s, dt, x| unsafe { advance_avx512(s, dt, x) }));
+                builds.push(("avx512", |s, dt, x| unsafe {
+                    update_avx512::<true>(s, &mut [], dt, x)
+                }));
             }
         }
         builds.push(("advance_all", advance_all));
@@ -294,5 +405,100 @@ mod tests {
                 assert_eq!(max1 == f64::INFINITY, bad.is_some(), "{name}");
             }
         }
+    }
+
+    /// Every build of `correct_all` this CPU runs against `correct` node by node, as
+    /// `advance_all_equals_node_by_node` does for the fused update: the same bits in a and v, the
+    /// same maximum, u untouched; a NaN and an infinite force in a vector's lanes and in the tail.
+    #[test]
+    fn correct_all_equals_node_by_node() {
+        type Build = fn(Span<'_>, &mut [f64], f64, &mut f64);
+        let mut builds: Vec<(&str, Build)> =
+            vec![("node by node", |s, a, dt, x| correct_from(s, a, dt, x, 0))];
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx2") {
+                // SAFETY: the CPU reported AVX2 at run time.
+                builds.push(("avx2", |s, a, dt, x| unsafe { update_avx2::<false>(s, a, dt, x) }));
+            }
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                // SAFETY: the CPU reported AVX-512F at run time.
+                builds.push(("avx512", |s, a, dt, x| unsafe {
+                    update_avx512::<false>(s, a, dt, x)
+                }));
+            }
+        }
+        let n = 11;
+        let dt = 3.7e-7;
+        let start = |k: usize, s: f64| Vector2::new((k as f64 * s).sin(), (k as f64 * s * 1.3).cos());
+        let bad_forces = [
+            None,
+            Some((8, f64::NAN)),
+            Some((8, f64::INFINITY)),
+            Some((19, f64::NAN)),
+        ];
+        for (name, build) in builds {
+            for bad in bad_forces {
+                let mut f: Vec<f64> = (0..2 * n).map(|k| (k as f64 * 0.917).sin() * 1e4).collect();
+                f[5] = 7e5; // node 2, y: the largest velocity
+                if let Some((at, b)) = bad {
+                    f[at] = b;
+                }
+                let m: Vec<f64> = (0..n).map(|k| 0.3 + 0.1 * k as f64).collect();
+                let (u0, mut v1): (Vec<_>, Vec<_>) = (0..n).map(|k| (start(k, 0.3), start(k, 0.7))).unzip();
+                let (mut u2, mut v2) = (u0.clone(), v1.clone());
+                let mut a1 = vec![Vector2::new(-1.0, -1.0); n];
+                let mut a2 = a1.clone();
+                let mut max1 = 0.5;
+                for k in 0..n {
+                    let force = Vector2::new(f[2 * k], f[2 * k + 1]);
+                    correct(&mut a1[k], &mut v1[k], force, m[k], dt, &mut max1);
+                }
+                let mut max2 = 0.5;
+                let nodes = Span {
+                    u: &mut u2,
+                    v: &mut v2,
+                    f: &f,
+                    m: &m,
+                };
+                build(nodes, bytemuck::cast_slice_mut(&mut a2), dt, &mut max2);
+                let bits = |x: &[Vector2<f64>]| {
+                    x.iter()
+                        .flat_map(|p| [p.x.to_bits(), p.y.to_bits()])
+                        .collect::<Vec<_>>()
+                };
+                assert_eq!(bits(&a1), bits(&a2), "{name}: a, bad force {bad:?}");
+                assert_eq!(bits(&v1), bits(&v2), "{name}: v, bad force {bad:?}");
+                assert_eq!(bits(&u0), bits(&u2), "{name}: u moved, bad force {bad:?}");
+                assert_eq!(
+                    max1.to_bits(),
+                    max2.to_bits(),
+                    "{name}: max |v|², bad force {bad:?}"
+                );
+                assert_eq!(max1 == f64::INFINITY, bad.is_some(), "{name}");
+            }
+        }
+    }
+
+    /// `predict_all` against `predict` node by node: the same bits in u and v on an odd count.
+    #[test]
+    fn predict_all_equals_node_by_node() {
+        let n = 11;
+        let dt = 3.7e-7;
+        let start = |k: usize, s: f64| Vector2::new((k as f64 * s).sin(), (k as f64 * s * 1.3).cos());
+        let a: Vec<_> = (0..n).map(|k| start(k, 1.9) * 3e5).collect();
+        let (mut u1, mut v1): (Vec<_>, Vec<_>) = (0..n).map(|k| (start(k, 0.3), start(k, 0.7))).unzip();
+        let (mut u2, mut v2) = (u1.clone(), v1.clone());
+        for k in 0..n {
+            predict(&mut u1[k], &mut v1[k], &a[k], dt);
+        }
+        predict_all(&mut u2, &mut v2, &a, dt);
+        let bits = |x: &[Vector2<f64>]| {
+            x.iter()
+                .flat_map(|p| [p.x.to_bits(), p.y.to_bits()])
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(bits(&u1), bits(&u2), "u");
+        assert_eq!(bits(&v1), bits(&v2), "v");
     }
 }
