@@ -20,22 +20,34 @@ mod node;
 
 use node::Span;
 
-type Build = fn(Span<'_>, f64, &mut f64);
+/// A build of the update: the span, the accelerations out (x, y pairs; the fused update leaves
+/// them), Δt, the running max |v|².
+type Build = fn(Span<'_>, &mut [f64], f64, &mut f64);
 
+/// The fused update (corrector and next predictor) of an unsampled step, in every build the CPU
+/// runs, and the corrector alone of a sampled step (a stored), node by node and in the CPU's
+/// widest build.
 fn builds() -> Vec<(&'static str, Build)> {
-    let mut out: Vec<(&'static str, Build)> =
-        vec![("node_by_node", |s, dt, x| node::advance_from(s, dt, x, 0))];
+    let mut out: Vec<(&'static str, Build)> = vec![
+        ("node_by_node", |s, _, dt, x| node::advance_from(s, dt, x, 0)),
+        ("correct_node_by_node", |s, a, dt, x| {
+            node::correct_from(s, a, dt, x, 0)
+        }),
+        ("correct_all", |s, a, dt, x| {
+            node::correct_all(s, bytemuck::cast_slice_mut(a), dt, x)
+        }),
+    ];
     #[cfg(target_arch = "x86_64")]
     {
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU reported AVX2 at run time.
-            out.push(("avx2", |s, dt, x| unsafe {
+            out.push(("avx2", |s, _, dt, x| unsafe {
                 node::update_avx2::<true>(s, &mut [], dt, x)
             }));
         }
         if std::arch::is_x86_feature_detected!("avx512f") {
             // SAFETY: the CPU reported AVX-512F at run time.
-            out.push(("avx512", |s, dt, x| unsafe {
+            out.push(("avx512", |s, _, dt, x| unsafe {
                 node::update_avx512::<true>(s, &mut [], dt, x)
             }));
         }
@@ -54,8 +66,9 @@ fn bench(c: &mut Criterion) {
         let f: Vec<f64> = (0..2 * n).map(|k| (k as f64 * 0.37).sin() * 1e3).collect();
         let mut group = c.benchmark_group(format!("node_update/{size}"));
         group.throughput(Throughput::Elements(n as u64));
+        let (mut u, mut v) = (vec![Vector2::zeros(); n], vec![Vector2::zeros(); n]);
+        let mut a = vec![0.0; 2 * n];
         for (name, build) in builds() {
-            let (mut u, mut v) = (vec![Vector2::zeros(); n], vec![Vector2::zeros(); n]);
             group.bench_function(name, |b| {
                 b.iter(|| {
                     let mut vmax2 = 0.0;
@@ -65,41 +78,13 @@ fn bench(c: &mut Criterion) {
                         f: &f,
                         m: &m,
                     };
-                    build(nodes, dt, &mut vmax2);
+                    build(nodes, &mut a, dt, &mut vmax2);
                     black_box(vmax2)
                 })
             });
         }
-        // the passes of a sampled step (the corrector alone, a stored) and of the step after it
-        // (the predictor alone), as the CPU's widest build and node by node
-        let (mut u, mut v) = (vec![Vector2::zeros(); n], vec![Vector2::zeros(); n]);
-        let mut a = vec![Vector2::zeros(); n];
-        group.bench_function("correct_node_by_node", |b| {
-            b.iter(|| {
-                let mut vmax2 = 0.0;
-                let nodes = Span {
-                    u: &mut u,
-                    v: &mut v,
-                    f: &f,
-                    m: &m,
-                };
-                node::correct_from(nodes, bytemuck::cast_slice_mut(&mut a), dt, &mut vmax2, 0);
-                black_box(vmax2)
-            })
-        });
-        group.bench_function("correct_all", |b| {
-            b.iter(|| {
-                let mut vmax2 = 0.0;
-                let nodes = Span {
-                    u: &mut u,
-                    v: &mut v,
-                    f: &f,
-                    m: &m,
-                };
-                node::correct_all(nodes, &mut a, dt, &mut vmax2);
-                black_box(vmax2)
-            })
-        });
+        // the predictor alone, of the step after a sampled one
+        let a: Vec<Vector2<f64>> = bytemuck::cast_slice(&a).to_vec();
         group.bench_function("predict_node_by_node", |b| {
             b.iter(|| {
                 for ((u, v), a) in u.iter_mut().zip(v.iter_mut()).zip(&a) {

@@ -370,8 +370,7 @@ fn corrector(model: &Model, state: &mut State, ws: &Workspace, dt: f64, fuse: bo
             match (done[layer], fused) {
                 (true, true) => nodes.advance([0, n - 1].into_iter()),
                 (true, false) => nodes.correct([0, n - 1].into_iter()),
-                (false, true) => nodes.advance_all(),
-                (false, false) => nodes.correct_all(),
+                (false, fused) => nodes.all(fused),
             }
         })
         .reduce(|| 0.0, f64::max)
@@ -400,9 +399,10 @@ impl Nodes<'_> {
         vmax2
     }
 
-    /// The corrector alone on every node; returns their largest |v|².
+    /// On every node, the corrector and, `fused`, the next step's predictor, else the corrector
+    /// alone (a stored); returns their largest |v|².
     #[inline(always)]
-    fn correct_all(self) -> f64 {
+    fn all(self, fused: bool) -> f64 {
         let mut vmax2 = 0.0f64;
         let nodes = Span {
             u: self.u,
@@ -410,21 +410,11 @@ impl Nodes<'_> {
             f: bytemuck::cast_slice(self.f),
             m: self.m,
         };
-        correct_all(nodes, self.a, self.dt, &mut vmax2);
-        vmax2
-    }
-
-    /// The corrector and the next step's predictor on every node; returns their largest |v_{n+1}|².
-    #[inline(always)]
-    fn advance_all(self) -> f64 {
-        let mut vmax2 = 0.0f64;
-        let nodes = Span {
-            u: self.u,
-            v: self.v,
-            f: bytemuck::cast_slice(self.f),
-            m: self.m,
-        };
-        advance_all(nodes, self.dt, &mut vmax2);
+        if fused {
+            advance_all(nodes, self.dt, &mut vmax2);
+        } else {
+            correct_all(nodes, self.a, self.dt, &mut vmax2);
+        }
         vmax2
     }
 

@@ -332,98 +332,44 @@ update_in!(
 mod tests {
     use super::*;
 
-    /// Every build of `advance_all` this CPU runs (AVX-512F, AVX2, node by node) against `advance`
-    /// node by node: the same bits in u and v, and the same maximum. Eleven nodes leave a tail for
-    /// each width (two quads and three nodes, five pairs and one); masses differ node to node, so
-    /// a lane given a neighbour's mass is seen. The largest |v|² lies in an odd lane, and a NaN
-    /// and an infinite force are put in turn in a vector's lane and in the tail.
+    /// A build of the node update under test: the span, the accelerations out (x, y pairs; the
+    /// fused update leaves them), Δt, the running max |v|².
+    type Build = fn(Span<'_>, &mut [f64], f64, &mut f64);
+
+    /// Every build of the fused update (`advance_all`) and of the corrector alone (`correct_all`)
+    /// this CPU runs (AVX-512F, AVX2, node by node) against `advance` or `correct` node by node:
+    /// the same bits in u, v and a, and the same maximum. Eleven nodes leave a tail for each width
+    /// (two quads and three nodes, five pairs and one); masses differ node to node, so a lane
+    /// given a neighbour's mass is seen. The largest |v|² lies in an odd lane, and a NaN and an
+    /// infinite force are put in turn in a vector's lane and in the tail.
     #[test]
-    fn advance_all_equals_node_by_node() {
-        type Build = fn(Span<'_>, f64, &mut f64);
-        let mut builds: Vec<(&str, Build)> = vec![("node by node", |s, dt, x| advance_from(s, dt, x, 0))];
+    fn every_build_gives_the_bits_of_the_one_node_update() {
+        let mut builds: Vec<(&str, bool, Build)> = vec![
+            ("advance node by node", true, |s, _, dt, x| {
+                advance_from(s, dt, x, 0)
+            }),
+            ("advance_all", true, |s, _, dt, x| advance_all(s, dt, x)),
+            ("correct node by node", false, |s, a, dt, x| {
+                correct_from(s, a, dt, x, 0)
+            }),
+        ];
         #[cfg(target_arch = "x86_64")]
         {
             if std::arch::is_x86_feature_detected!("avx2") {
-                // SAFETY: the CPU reported AVX2 at run time.
-                builds.push(("avx2", |s, dt, x| unsafe {
+                // SAFETY (all four): the CPU reported AVX2 at run time.
+                builds.push(("avx2 fused", true, |s, _, dt, x| unsafe {
                     update_avx2::<true>(s, &mut [], dt, x)
                 }));
-            }
-            if std::arch::is_x86_feature_detected!("avx512f") {
-                // SAFETY: the CPU reported AVX-512F at run time.
-                builds.push(("avx512", |s, dt, x| unsafe {
-                    update_avx512::<true>(s, &mut [], dt, x)
+                builds.push(("avx2 corrector", false, |s, a, dt, x| unsafe {
+                    update_avx2::<false>(s, a, dt, x)
                 }));
             }
-        }
-        builds.push(("advance_all", advance_all));
-        let n = 11;
-        let dt = 3.7e-7;
-        let start = |k: usize, s: f64| Vector2::new((k as f64 * s).sin(), (k as f64 * s * 1.3).cos());
-        let bad_forces = [
-            None,
-            Some((8, f64::NAN)),
-            Some((8, f64::INFINITY)),
-            Some((19, f64::NAN)),
-        ];
-        for (name, build) in builds {
-            for bad in bad_forces {
-                let mut f: Vec<f64> = (0..2 * n).map(|k| (k as f64 * 0.917).sin() * 1e4).collect();
-                f[5] = 7e5; // node 2, y: the largest velocity
-                if let Some((at, b)) = bad {
-                    f[at] = b;
-                }
-                let m: Vec<f64> = (0..n).map(|k| 0.3 + 0.1 * k as f64).collect();
-                let (mut u1, mut v1): (Vec<_>, Vec<_>) =
-                    (0..n).map(|k| (start(k, 0.3), start(k, 0.7))).unzip();
-                let (mut u2, mut v2) = (u1.clone(), v1.clone());
-                let mut max1 = 0.5;
-                for k in 0..n {
-                    let force = Vector2::new(f[2 * k], f[2 * k + 1]);
-                    advance(&mut u1[k], &mut v1[k], force, m[k], dt, &mut max1);
-                }
-                let mut max2 = 0.5;
-                let nodes = Span {
-                    u: &mut u2,
-                    v: &mut v2,
-                    f: &f,
-                    m: &m,
-                };
-                build(nodes, dt, &mut max2);
-                let bits = |x: &[Vector2<f64>]| {
-                    x.iter()
-                        .flat_map(|p| [p.x.to_bits(), p.y.to_bits()])
-                        .collect::<Vec<_>>()
-                };
-                assert_eq!(bits(&u1), bits(&u2), "{name}: u, bad force {bad:?}");
-                assert_eq!(bits(&v1), bits(&v2), "{name}: v, bad force {bad:?}");
-                assert_eq!(
-                    max1.to_bits(),
-                    max2.to_bits(),
-                    "{name}: max |v|², bad force {bad:?}"
-                );
-                assert_eq!(max1 == f64::INFINITY, bad.is_some(), "{name}");
-            }
-        }
-    }
-
-    /// Every build of `correct_all` this CPU runs against `correct` node by node, as
-    /// `advance_all_equals_node_by_node` does for the fused update: the same bits in a and v, the
-    /// same maximum, u untouched; a NaN and an infinite force in a vector's lanes and in the tail.
-    #[test]
-    fn correct_all_equals_node_by_node() {
-        type Build = fn(Span<'_>, &mut [f64], f64, &mut f64);
-        let mut builds: Vec<(&str, Build)> =
-            vec![("node by node", |s, a, dt, x| correct_from(s, a, dt, x, 0))];
-        #[cfg(target_arch = "x86_64")]
-        {
-            if std::arch::is_x86_feature_detected!("avx2") {
-                // SAFETY: the CPU reported AVX2 at run time.
-                builds.push(("avx2", |s, a, dt, x| unsafe { update_avx2::<false>(s, a, dt, x) }));
-            }
             if std::arch::is_x86_feature_detected!("avx512f") {
-                // SAFETY: the CPU reported AVX-512F at run time.
-                builds.push(("avx512", |s, a, dt, x| unsafe {
+                // SAFETY (both): the CPU reported AVX-512F at run time.
+                builds.push(("avx512 fused", true, |s, _, dt, x| unsafe {
+                    update_avx512::<true>(s, &mut [], dt, x)
+                }));
+                builds.push(("avx512 corrector", false, |s, a, dt, x| unsafe {
                     update_avx512::<false>(s, a, dt, x)
                 }));
             }
@@ -437,7 +383,12 @@ mod tests {
             Some((8, f64::INFINITY)),
             Some((19, f64::NAN)),
         ];
-        for (name, build) in builds {
+        let bits = |x: &[Vector2<f64>]| {
+            x.iter()
+                .flat_map(|p| [p.x.to_bits(), p.y.to_bits()])
+                .collect::<Vec<_>>()
+        };
+        for (name, fused, build) in builds {
             for bad in bad_forces {
                 let mut f: Vec<f64> = (0..2 * n).map(|k| (k as f64 * 0.917).sin() * 1e4).collect();
                 f[5] = 7e5; // node 2, y: the largest velocity
@@ -445,14 +396,18 @@ mod tests {
                     f[at] = b;
                 }
                 let m: Vec<f64> = (0..n).map(|k| 0.3 + 0.1 * k as f64).collect();
-                let (u0, mut v1): (Vec<_>, Vec<_>) = (0..n).map(|k| (start(k, 0.3), start(k, 0.7))).unzip();
-                let (mut u2, mut v2) = (u0.clone(), v1.clone());
+                let (mut u1, mut v1): (Vec<_>, Vec<_>) =
+                    (0..n).map(|k| (start(k, 0.3), start(k, 0.7))).unzip();
                 let mut a1 = vec![Vector2::new(-1.0, -1.0); n];
-                let mut a2 = a1.clone();
+                let (mut u2, mut v2, mut a2) = (u1.clone(), v1.clone(), a1.clone());
                 let mut max1 = 0.5;
                 for k in 0..n {
                     let force = Vector2::new(f[2 * k], f[2 * k + 1]);
-                    correct(&mut a1[k], &mut v1[k], force, m[k], dt, &mut max1);
+                    if fused {
+                        advance(&mut u1[k], &mut v1[k], force, m[k], dt, &mut max1);
+                    } else {
+                        correct(&mut a1[k], &mut v1[k], force, m[k], dt, &mut max1);
+                    }
                 }
                 let mut max2 = 0.5;
                 let nodes = Span {
@@ -462,14 +417,9 @@ mod tests {
                     m: &m,
                 };
                 build(nodes, bytemuck::cast_slice_mut(&mut a2), dt, &mut max2);
-                let bits = |x: &[Vector2<f64>]| {
-                    x.iter()
-                        .flat_map(|p| [p.x.to_bits(), p.y.to_bits()])
-                        .collect::<Vec<_>>()
-                };
-                assert_eq!(bits(&a1), bits(&a2), "{name}: a, bad force {bad:?}");
+                assert_eq!(bits(&u1), bits(&u2), "{name}: u, bad force {bad:?}");
                 assert_eq!(bits(&v1), bits(&v2), "{name}: v, bad force {bad:?}");
-                assert_eq!(bits(&u0), bits(&u2), "{name}: u moved, bad force {bad:?}");
+                assert_eq!(bits(&a1), bits(&a2), "{name}: a, bad force {bad:?}");
                 assert_eq!(
                     max1.to_bits(),
                     max2.to_bits(),
