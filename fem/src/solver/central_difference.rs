@@ -9,7 +9,7 @@ use crate::model::state::{Model, State, Workspace};
 use crate::model::{bulk, cohesive, insertion};
 use crate::profile::Phase;
 use crate::scene::DampingSet;
-use crate::solver::node::{Span, advance, advance_all, correct_all, predict_all, track_vmax2};
+use crate::solver::node::{Span, advance, advance_all, correct, correct_all, predict_all};
 use crate::solver::{absorbing, contact_step};
 use nalgebra::Vector2;
 use rayon::prelude::*;
@@ -392,9 +392,14 @@ impl Nodes<'_> {
     fn correct(self, nodes: impl Iterator<Item = usize>) -> f64 {
         let mut vmax2 = 0.0f64;
         for k in nodes {
-            self.a[k] = self.f[k] / self.m[k];
-            self.v[k] += 0.5 * self.dt * self.a[k];
-            track_vmax2(&mut vmax2, self.v[k].norm_squared());
+            correct(
+                &mut self.a[k],
+                &mut self.v[k],
+                self.f[k],
+                self.m[k],
+                self.dt,
+                &mut vmax2,
+            );
         }
         vmax2
     }

@@ -159,7 +159,7 @@ pub(crate) fn correct_from(nodes: Span<'_>, a: &mut [f64], dt: f64, vmax2: &mut 
         .zip(m)
         .skip(k)
     {
-        let mut acc = Vector2::new(a[0], a[1]);
+        let mut acc = Vector2::zeros();
         correct(&mut acc, v, Vector2::new(f[0], f[1]), m, dt, vmax2);
         a.copy_from_slice(acc.as_slice());
     }
