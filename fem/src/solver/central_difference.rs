@@ -364,13 +364,11 @@ fn corrector(model: &Model, state: &mut State, ws: &Workspace, dt: f64, fuse: bo
         .with_min_len(crate::model::layers::BAND)
         .map(|(layer, (((a, v), u), (f, m)))| {
             let fused = fuse && !apart[layer];
-            // a grid layer has w nodes; a Gmsh mesh's last chunk may have fewer
-            let n = a.len();
             let nodes = Nodes { a, v, u, f, m, dt };
-            match (done[layer], fused) {
-                (true, true) => nodes.advance([0, n - 1].into_iter()),
-                (true, false) => nodes.correct([0, n - 1].into_iter()),
-                (false, fused) => nodes.all(fused),
+            if done[layer] {
+                nodes.ends(fused)
+            } else {
+                nodes.all(fused)
             }
         })
         .reduce(|| 0.0, f64::max)
@@ -387,19 +385,19 @@ struct Nodes<'a> {
 }
 
 impl Nodes<'_> {
-    /// The corrector alone on `nodes`; returns their largest |v|².
+    /// On the layer's two edge nodes (those a swept layer leaves), the corrector and, `fused`,
+    /// the next step's predictor, else the corrector alone (a stored); returns their largest |v|².
     #[inline(always)]
-    fn correct(self, nodes: impl Iterator<Item = usize>) -> f64 {
+    fn ends(self, fused: bool) -> f64 {
         let mut vmax2 = 0.0f64;
-        for k in nodes {
-            correct(
-                &mut self.a[k],
-                &mut self.v[k],
-                self.f[k],
-                self.m[k],
-                self.dt,
-                &mut vmax2,
-            );
+        // a grid layer has w nodes; a Gmsh mesh's last chunk may have fewer
+        for k in [0, self.a.len() - 1] {
+            let (f, m, dt) = (self.f[k], self.m[k], self.dt);
+            if fused {
+                advance(&mut self.u[k], &mut self.v[k], f, m, dt, &mut vmax2);
+            } else {
+                correct(&mut self.a[k], &mut self.v[k], f, m, dt, &mut vmax2);
+            }
         }
         vmax2
     }
@@ -419,23 +417,6 @@ impl Nodes<'_> {
             advance_all(nodes, self.dt, &mut vmax2);
         } else {
             correct_all(nodes, self.a, self.dt, &mut vmax2);
-        }
-        vmax2
-    }
-
-    /// The corrector and the next step's predictor on `nodes`; returns their largest |v_{n+1}|².
-    #[inline(always)]
-    fn advance(self, nodes: impl Iterator<Item = usize>) -> f64 {
-        let mut vmax2 = 0.0f64;
-        for k in nodes {
-            advance(
-                &mut self.u[k],
-                &mut self.v[k],
-                self.f[k],
-                self.m[k],
-                self.dt,
-                &mut vmax2,
-            );
         }
         vmax2
     }
