@@ -167,7 +167,8 @@ fn save_row_displacements(model: &Model, state: &State, ws: &mut Workspace) {
     }
 }
 
-/// u += Δt v + ½Δt² a; v* = v + ½Δt a (every node; prescribed DOFs are overwritten next).
+/// u += Δt v + ½Δt² a; v* = v + ½Δt a (every node; prescribed DOFs are overwritten next), in
+/// chunks of nodes run in parallel, each on vectors (no node's operations depend on the chunks).
 fn predictor(state: &mut State, dt: f64) {
     const CHUNK: usize = 4096;
     state
