@@ -33,9 +33,8 @@ pub(crate) fn advance(
     dt: f64,
     vmax2: &mut f64,
 ) {
-    let a = f / m;
-    *v += 0.5 * dt * a;
-    track_vmax2(vmax2, v.norm_squared());
+    let mut a = Vector2::zeros();
+    correct(&mut a, v, f, m, dt, vmax2);
     predict(u, v, &a, dt);
 }
 
@@ -61,39 +60,43 @@ pub(crate) fn correct(
 /// through one of four, each lane through the IEEE operations of [`advance`]; the maximum is the
 /// same whatever the order the nodes are seen in.
 pub(crate) fn advance_all(nodes: Span<'_>, dt: f64, vmax2: &mut f64) {
-    let Span { u, v, f, m } = &nodes;
-    assert!(v.len() == u.len() && m.len() == u.len() && f.len() == 2 * u.len());
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx512f") {
-        // SAFETY: the CPU reported AVX-512F at run time.
-        return unsafe { update_avx512::<true>(nodes, &mut [], dt, vmax2) };
-    }
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU reported AVX2 at run time.
-        return unsafe { update_avx2::<true>(nodes, &mut [], dt, vmax2) };
-    }
-    advance_from(nodes, dt, vmax2, 0);
+    update_all::<true>(nodes, &mut [], dt, vmax2);
 }
 
 /// [`correct`] of consecutive nodes, their accelerations into `a` (`nodes.u` is left as it is);
 /// the largest |v_{n+1}|² joins `vmax2`. Vectorised as [`advance_all`], each lane through the
 /// IEEE operations of [`correct`].
 pub(crate) fn correct_all(nodes: Span<'_>, a: &mut [Vector2<f64>], dt: f64, vmax2: &mut f64) {
+    assert_eq!(a.len(), nodes.u.len());
+    update_all::<false>(nodes, bytemuck::cast_slice_mut(a), dt, vmax2);
+}
+
+/// [`advance_all`] (`FUSED`) or [`correct_all`] (a into `a_out`, x, y pairs) on the widest
+/// build the CPU runs.
+fn update_all<const FUSED: bool>(nodes: Span<'_>, a_out: &mut [f64], dt: f64, vmax2: &mut f64) {
     let Span { u, v, f, m } = &nodes;
-    assert!(v.len() == u.len() && m.len() == u.len() && f.len() == 2 * u.len() && a.len() == u.len());
-    let a: &mut [f64] = bytemuck::cast_slice_mut(a);
+    assert!(v.len() == u.len() && m.len() == u.len() && f.len() == 2 * u.len());
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx512f") {
         // SAFETY: the CPU reported AVX-512F at run time.
-        return unsafe { update_avx512::<false>(nodes, a, dt, vmax2) };
+        return unsafe { update_avx512::<FUSED>(nodes, a_out, dt, vmax2) };
     }
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU reported AVX2 at run time.
-        return unsafe { update_avx2::<false>(nodes, a, dt, vmax2) };
+        return unsafe { update_avx2::<FUSED>(nodes, a_out, dt, vmax2) };
     }
-    correct_from(nodes, a, dt, vmax2, 0);
+    update_from::<FUSED>(nodes, a_out, dt, vmax2, 0);
+}
+
+/// [`advance_from`] (`FUSED`) or [`correct_from`]: node by node from node `k` on.
+#[inline(always)]
+fn update_from<const FUSED: bool>(nodes: Span<'_>, a_out: &mut [f64], dt: f64, vmax2: &mut f64, k: usize) {
+    if FUSED {
+        advance_from(nodes, dt, vmax2, k);
+    } else {
+        correct_from(nodes, a_out, dt, vmax2, k);
+    }
 }
 
 /// The predictor of consecutive nodes ([`predict`] on each), on the widest vectors the CPU has:
@@ -270,12 +273,7 @@ macro_rules! update_in {
             for l in lanes {
                 track_vmax2(vmax2, l);
             }
-            let rest = Span { u, v, f, m };
-            if FUSED {
-                advance_from(rest, dt, vmax2, $n * groups);
-            } else {
-                correct_from(rest, a_out, dt, vmax2, $n * groups);
-            }
+            update_from::<FUSED>(Span { u, v, f, m }, a_out, dt, vmax2, $n * groups);
         }
     };
 }
