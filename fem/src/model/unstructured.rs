@@ -58,6 +58,12 @@ const FAR_EDGE_SHARE: f64 = 0.01;
 /// Nodes per rayon task of the copies into and out of the kernel's node order.
 const COPY_CHUNK: usize = 4096;
 
+/// Edges ahead of the node at hand whose blocks the kernel asks of the cache (4 KiB of blocks,
+/// 32 nodes of a quadrangle mesh). The blocks stream at 96 to 128 bytes a node; once they outgrow
+/// the last-level cache, the processor's own prefetch fell behind them and the kernel ran at less
+/// than half its in-cache rate (docs/performance.md, "Unstructured bulk kernel").
+const BLOCKS_AHEAD: usize = 128;
+
 /// The kernel's u and f buffers (in its node order), behind a lock so that an evaluation through
 /// `&self` may fill them; a clone gets buffers of its own.
 #[derive(Debug)]
@@ -371,6 +377,9 @@ impl UnstructuredBulk {
             let ua = u[a];
             let mut acc = f[a - first];
             let edges = self.edge_start[a] as usize..self.edge_start[a + 1] as usize;
+            // the blocks BLOCKS_AHEAD edges on, two cache lines: a Q4 node's four blocks
+            crate::hint::prefetch(bl, edges.start + BLOCKS_AHEAD);
+            crate::hint::prefetch(bl, edges.start + BLOCKS_AHEAD + 2);
             for (&b, kb) in self.other[edges.clone()].iter().zip(&bl[edges]) {
                 let b = b as usize;
                 let ub = u[b];
