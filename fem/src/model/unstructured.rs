@@ -59,9 +59,9 @@ const FAR_EDGE_SHARE: f64 = 0.01;
 const COPY_CHUNK: usize = 4096;
 
 /// Edges ahead of the node at hand whose blocks the kernel asks of the cache (4 KiB of blocks,
-/// 32 nodes of a quadrangle mesh). The blocks stream at 96 to 128 bytes a node; once they outgrow
-/// the last-level cache, the processor's own prefetch fell behind them and the kernel ran at less
-/// than half its in-cache rate (docs/performance.md, "Unstructured bulk kernel").
+/// 32 nodes of a quadrangle mesh). The blocks stream at 96 to 128 bytes a node; once they outgrew
+/// the last-level cache, the kernel ran at less than half its in-cache rate, and asking for them
+/// ahead won back most of it (docs/performance.md, "Unstructured bulk kernel").
 const BLOCKS_AHEAD: usize = 128;
 
 /// The kernel's u and f buffers (in its node order), behind a lock so that an evaluation through
