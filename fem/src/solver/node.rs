@@ -334,6 +334,16 @@ mod tests {
     /// fused update leaves them), Δt, the running max |v|².
     type Build = fn(Span<'_>, &mut [f64], f64, &mut f64);
 
+    /// A smooth vector field over node numbers, its frequency s.
+    fn start(k: usize, s: f64) -> Vector2<f64> {
+        Vector2::new((k as f64 * s).sin(), (k as f64 * s * 1.3).cos())
+    }
+
+    /// The bits of every component, node by node.
+    fn bits(x: &[Vector2<f64>]) -> Vec<u64> {
+        x.iter().flat_map(|p| [p.x.to_bits(), p.y.to_bits()]).collect()
+    }
+
     /// Every build of the fused update (`advance_all`) and of the corrector alone (`correct_all`)
     /// this CPU runs (AVX-512F, AVX2, node by node) against `advance` or `correct` node by node:
     /// the same bits in u, v and a, and the same maximum. Eleven nodes leave a tail for each width
@@ -374,18 +384,12 @@ mod tests {
         }
         let n = 11;
         let dt = 3.7e-7;
-        let start = |k: usize, s: f64| Vector2::new((k as f64 * s).sin(), (k as f64 * s * 1.3).cos());
         let bad_forces = [
             None,
             Some((8, f64::NAN)),
             Some((8, f64::INFINITY)),
             Some((19, f64::NAN)),
         ];
-        let bits = |x: &[Vector2<f64>]| {
-            x.iter()
-                .flat_map(|p| [p.x.to_bits(), p.y.to_bits()])
-                .collect::<Vec<_>>()
-        };
         for (name, fused, build) in builds {
             for bad in bad_forces {
                 let mut f: Vec<f64> = (0..2 * n).map(|k| (k as f64 * 0.917).sin() * 1e4).collect();
@@ -433,7 +437,6 @@ mod tests {
     fn predict_all_equals_node_by_node() {
         let n = 11;
         let dt = 3.7e-7;
-        let start = |k: usize, s: f64| Vector2::new((k as f64 * s).sin(), (k as f64 * s * 1.3).cos());
         let a: Vec<_> = (0..n).map(|k| start(k, 1.9) * 3e5).collect();
         let (mut u1, mut v1): (Vec<_>, Vec<_>) = (0..n).map(|k| (start(k, 0.3), start(k, 0.7))).unzip();
         let (mut u2, mut v2) = (u1.clone(), v1.clone());
@@ -441,11 +444,6 @@ mod tests {
             predict(&mut u1[k], &mut v1[k], &a[k], dt);
         }
         predict_all(&mut u2, &mut v2, &a, dt);
-        let bits = |x: &[Vector2<f64>]| {
-            x.iter()
-                .flat_map(|p| [p.x.to_bits(), p.y.to_bits()])
-                .collect::<Vec<_>>()
-        };
         assert_eq!(bits(&u1), bits(&u2), "u");
         assert_eq!(bits(&v1), bits(&v2), "v");
     }
