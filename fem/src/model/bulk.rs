@@ -112,44 +112,57 @@ pub(crate) fn lumped_mass(c: &[Vector2<f64>; 4], density: f64) -> [f64; 4] {
     m
 }
 
-/// Shape-function gradients at the four Gauss points (GAUSS_SIGNS order) [1/m].
-pub(crate) type GaussGradients = [[Vector2<f64>; 4]; 4];
+/// Shape-function gradients at the four Gauss points [1/m], by node a and component, the Gauss
+/// points (GAUSS_SIGNS order) side by side: `[a][0][k]` = ∂N_a/∂x and `[a][1][k]` = ∂N_a/∂y at
+/// point k, so that the four points' stresses take the lanes of one register
+/// ([`gauss_stresses`]).
+pub(crate) type GaussGradients = [[[f64; 4]; 2]; 4];
 
 /// ∇_X N_a at the four Gauss points of an element.
 pub(crate) fn gauss_gradients(c: &[Vector2<f64>; 4]) -> GaussGradients {
     let g = 1.0 / 3f64.sqrt();
-    GAUSS_SIGNS.map(|(s, t)| shape_gradients(c, s * g, t * g).0)
+    let at = GAUSS_SIGNS.map(|(s, t)| shape_gradients(c, s * g, t * g).0);
+    std::array::from_fn(|a| {
+        [
+            std::array::from_fn(|k| at[k][a].x),
+            std::array::from_fn(|k| at[k][a].y),
+        ]
+    })
 }
 
-/// Gauss-point stresses σ_q = D B_q u_e, as [σ_xx, σ_yy, σ_xy] [Pa], in GAUSS_SIGNS order.
+/// Gauss-point stresses σ = D B_k u_e [Pa], as σ_p at the four points (GAUSS_SIGNS order) for
+/// p = xx, yy, xy. Each point's operations come in the same order, written on arrays of four
+/// points so that the compiler may put them in the lanes of a register.
 pub(crate) fn gauss_stresses(
     grads: &GaussGradients,
     d: &[[f64; 3]; 3],
     ue: &[Vector2<f64>; 4],
-) -> [[f64; 3]; 4] {
-    grads.map(|grads| {
-        let mut eps = [0.0; 3];
-        for a in 0..4 {
-            eps[0] += grads[a].x * ue[a].x;
-            eps[1] += grads[a].y * ue[a].y;
-            eps[2] += grads[a].y * ue[a].x + grads[a].x * ue[a].y;
-        }
-        [0, 1, 2].map(|p| d[p][0] * eps[0] + d[p][1] * eps[1] + d[p][2] * eps[2])
-    })
-}
-
-/// Bilinear extrapolation of Gauss values to natural point (ξ, η), docs/fem-model.md §1:
-/// value = Σ_k σ_k ¼(1 + √3 s_k ξ)(1 + √3 t_k η).
-pub(crate) fn extrapolate(sig: &[[f64; 3]; 4], xi: f64, eta: f64) -> [f64; 3] {
-    let r3 = 3f64.sqrt();
-    let mut out = [0.0; 3];
-    for (k, &(s, t)) in GAUSS_SIGNS.iter().enumerate() {
-        let w = 0.25 * (1.0 + r3 * s * xi) * (1.0 + r3 * t * eta);
-        for p in 0..3 {
-            out[p] += w * sig[k][p];
+) -> [[f64; 4]; 3] {
+    let mut eps = [[0.0; 4]; 3];
+    for (g, u) in grads.iter().zip(ue) {
+        for k in 0..4 {
+            eps[0][k] += g[0][k] * u.x;
+            eps[1][k] += g[1][k] * u.y;
+            eps[2][k] += g[1][k] * u.x + g[0][k] * u.y;
         }
     }
-    out
+    [0, 1, 2]
+        .map(|p| std::array::from_fn(|k| d[p][0] * eps[0][k] + d[p][1] * eps[1][k] + d[p][2] * eps[2][k]))
+}
+
+/// Bilinear extrapolation of Gauss-point values to the natural point (ξ, η), docs/fem-model.md
+/// §1: value = Σ_k w_k v_k with w_k = ¼(1 + √3 s_k ξ)(1 + √3 t_k η), summed from k = 0 on, for
+/// each of the three components of `sig` ([`gauss_stresses`]' order).
+pub(crate) fn extrapolate(sig: &[[f64; 4]; 3], xi: f64, eta: f64) -> [f64; 3] {
+    let r3 = 3f64.sqrt();
+    let w = GAUSS_SIGNS.map(|(s, t)| 0.25 * (1.0 + r3 * s * xi) * (1.0 + r3 * t * eta));
+    sig.map(|v| {
+        let mut out = 0.0;
+        for k in 0..4 {
+            out += w[k] * v[k];
+        }
+        out
+    })
 }
 
 /// f = −f_int(u) for every node (overwrites `f`), gathering per node from the ≤ 4 adjacent
@@ -312,11 +325,49 @@ mod tests {
         }
     }
 
+    /// Each Gauss point's stress, computed in its lane of [`gauss_stresses`], is σ = D ε with ε
+    /// from that point's own shape-function gradients, on a distorted quadrilateral under a
+    /// bilinear displacement (so the strain differs from point to point) and a D whose nine
+    /// entries all differ. Fails if a point takes another's gradients, if the x and y gradients
+    /// are swapped in the shear strain, or if D is read transposed.
+    #[test]
+    fn each_gauss_point_gets_d_times_its_own_strain() {
+        let c = [(0.0, 0.0), (1.2, 0.1), (1.0, 0.9), (-0.1, 1.1)].map(|(x, y)| Vector2::new(x, y));
+        let field = |x: Vector2<f64>| {
+            Vector2::new(
+                1e-3 * x.x + 2e-3 * x.y + 4e-3 * x.x * x.y,
+                -5e-4 * x.x + 3e-3 * x.y - 2e-3 * x.x * x.y,
+            )
+        };
+        let ue = c.map(field);
+        let d = [[3.0, 1.0, 0.5], [1.1, 2.5, 0.2], [0.3, 0.4, 1.7]].map(|r| r.map(|v| v * 1e9));
+        let sig = gauss_stresses(&gauss_gradients(&c), &d, &ue);
+        let g = 1.0 / 3f64.sqrt();
+        for (k, &(s, t)) in GAUSS_SIGNS.iter().enumerate() {
+            let (grads, _) = shape_gradients(&c, s * g, t * g);
+            let mut eps = [0.0; 3];
+            for (n, u) in grads.iter().zip(&ue) {
+                eps[0] += n.x * u.x;
+                eps[1] += n.y * u.y;
+                eps[2] += n.y * u.x + n.x * u.y;
+            }
+            for p in 0..3 {
+                let expected = d[p][0] * eps[0] + d[p][1] * eps[1] + d[p][2] * eps[2];
+                // the same operations in the same order: equal to the last bit
+                assert_eq!(
+                    sig[p][k].to_bits(),
+                    expected.to_bits(),
+                    "σ_{p} at Gauss point {k}"
+                );
+            }
+        }
+    }
+
     #[test]
     fn extrapolation_reproduces_bilinear_field() {
         let f = |x: f64, y: f64| 1.0 + 2.0 * x - 3.0 * y + 0.5 * x * y;
         let g = 1.0 / 3f64.sqrt();
-        let sig = GAUSS_SIGNS.map(|(s, t)| [f(s * g, t * g), 0.0, 0.0]);
+        let sig = [GAUSS_SIGNS.map(|(s, t)| f(s * g, t * g)), [0.0; 4], [0.0; 4]];
         let v = extrapolate(&sig, 1.0, -0.4);
         assert!((v[0] - f(1.0, -0.4)).abs() < 1e-12);
     }

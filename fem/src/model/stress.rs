@@ -70,7 +70,7 @@ pub(crate) fn element_mean(model: &Model, e: usize, u: &[Vector2<f64>]) -> (Vect
         FaceStress::T3 { .. } => face.sample(model.d_of(e), &ue, [0.0])[0],
         FaceStress::Q4 { grads, .. } => {
             let sig = bulk::gauss_stresses(&grads, model.d_of(e), &ue);
-            [0, 1, 2].map(|p| sig.iter().map(|q| q[p]).sum::<f64>() / 4.0)
+            sig.map(|p| p.iter().sum::<f64>() / 4.0)
         }
     };
     (centre, sig)
