@@ -1,6 +1,8 @@
 //! Bulk internal-force kernels, reported per element-step (Throughput::Elements):
 //! - the paper's centre-crack mesh (500 × 250 identical squares, shared K_e, rayon gather);
 //! - the sinusoidal-interface mesh (750 × 250 vertical-sided quads, forces computed on the fly);
+//! - the centre crack's Gmsh triangle mesh (`meshes/center-crack-tri.msh`, 43 138 T3, the
+//!   unstructured kernel in its own node order, with the copies into and out of it);
 //! - the unstructured kernel (`fem::model::unstructured`) on the centre-crack rectangle written
 //!   as an unstructured mesh: 500 × 250 Q4, and the same squares split into 250 000 T3.
 
@@ -19,7 +21,7 @@ fn displacements(n: usize) -> Vec<Vector2<f64>> {
 /// Benchmarks one f_int evaluation on the mesh of `scene` (a file in scenes/).
 fn bench_scene(c: &mut Criterion, name: &str, scene: &str) {
     let path = format!("{}/../scenes/{scene}", env!("CARGO_MANIFEST_DIR"));
-    let scene = fem::Scene::from_toml_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let scene = fem::Scene::from_file(std::path::Path::new(&path)).unwrap();
     let (model, _, _) = fem::build(&scene).unwrap();
     let n = model.num_nodes();
     let u = displacements(n);
@@ -103,6 +105,7 @@ fn bench_unstructured(c: &mut Criterion, name: &str, triangles: bool, two_materi
 fn bench(c: &mut Criterion) {
     bench_scene(c, "center_crack_500x250", "center-crack.toml");
     bench_scene(c, "sinusoid_mapped_750x250", "sinusoidal-interface.toml");
+    bench_scene(c, "center_crack_tri_43138", "center-crack-tri.toml");
     bench_unstructured(c, "unstructured_q4_500x250", false, false);
     bench_unstructured(c, "unstructured_t3_500x250x2", true, false);
     bench_unstructured(c, "unstructured_q4_500x250_two_materials", false, true);
