@@ -2,6 +2,9 @@
 //! - `fma_peak`: fused multiply-adds per second on one core, from 16 independent 8-wide chains
 //!   (AVX-512 when the CPU has it, else AVX2; the portable build otherwise). Throughput is
 //!   reported in FMA lanes (elements): flops = 2 × elements.
+//! - `div_peak`: divisions per second on one core, from 16 independent 8-wide chains x ← x / a
+//!   (AVX-512, AVX2 or the portable build, as for `fma_peak`), reported in division lanes: the
+//!   ceiling of the node update, whose a = f/m takes two divisions a node.
 //! - `triad`: a[i] = b[i] + s c[i] (the STREAM triad, 3 × 8 B per element moved, reported in
 //!   bytes) on 24 MiB, the size of a paper-resolution step's working set (u, v, f, m and the
 //!   mesh's small tables, which a large last-level cache can hold), and on 1 GiB (main memory);
@@ -94,7 +97,68 @@ fn bench_fma(c: &mut Criterion) {
     g.bench_function("fma_peak_one_core", |bch| {
         bch.iter(|| fma(black_box(0.999_999), black_box(1e-9)))
     });
+    g.bench_function("div_peak_one_core", |bch| {
+        bch.iter(|| div(black_box(1.000_000_1)))
+    });
     g.finish();
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn div_avx512(a: f64) -> f64 {
+    use std::arch::x86_64::*;
+    let va = _mm512_set1_pd(a);
+    let mut x = [_mm512_set1_pd(1.0); CHAINS];
+    for _ in 0..ROUNDS {
+        for v in x.iter_mut() {
+            *v = _mm512_div_pd(*v, va);
+        }
+    }
+    x.iter().map(|v| _mm512_reduce_add_pd(*v)).sum()
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn div_avx2(a: f64) -> f64 {
+    use std::arch::x86_64::*;
+    let va = _mm256_set1_pd(a);
+    let mut x = [_mm256_set1_pd(1.0); CHAINS];
+    for _ in 0..ROUNDS {
+        for v in x.iter_mut() {
+            *v = _mm256_div_pd(*v, va);
+        }
+    }
+    let mut out = [0.0; 4];
+    x.iter()
+        .map(|v| {
+            // SAFETY: `out` holds 4 f64, the width of one AVX register.
+            unsafe { _mm256_storeu_pd(out.as_mut_ptr(), *v) };
+            out.iter().sum::<f64>()
+        })
+        .sum()
+}
+
+/// 16 independent chains of `ROUNDS` divisions x ← x / a on the widest vectors the CPU has:
+/// as many division lanes as [`fma_lanes`] counts FMA lanes.
+fn div(a: f64) -> f64 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the CPU reported AVX-512F at run time.
+            return unsafe { div_avx512(a) };
+        }
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
+            // SAFETY: the CPU reported AVX2 at run time.
+            return unsafe { div_avx2(a) };
+        }
+    }
+    let mut x = [1.0f64; CHAINS];
+    for _ in 0..ROUNDS {
+        for v in x.iter_mut() {
+            *v /= a;
+        }
+    }
+    x.iter().sum()
 }
 
 fn triad(a: &mut [f64], b: &[f64], c: &[f64], s: f64, threads: bool) {
