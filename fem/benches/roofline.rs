@@ -35,39 +35,77 @@ fn fma_lanes() -> usize {
     CHAINS * ROUNDS
 }
 
+/// `CHAINS` independent chains of `ROUNDS` steps x ← `$step` (x the chain's vector, starting at
+/// 1), summed: the SIMD builds of the peaks below.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-fn fma_avx512(a: f64, b: f64) -> f64 {
-    use std::arch::x86_64::*;
-    let (va, vb) = (_mm512_set1_pd(a), _mm512_set1_pd(b));
-    let mut x = [_mm512_set1_pd(1.0); CHAINS];
-    for _ in 0..ROUNDS {
-        for v in x.iter_mut() {
-            *v = _mm512_fmadd_pd(*v, va, vb);
+macro_rules! chains {
+    ($features:literal, $name:ident($($arg:ident),*), $one:expr, |$x:ident| $step:expr, $sum:expr) => {
+        #[target_feature(enable = $features)]
+        fn $name($($arg: f64),*) -> f64 {
+            use std::arch::x86_64::*;
+            let mut x = [$one; CHAINS];
+            for _ in 0..ROUNDS {
+                for $x in x.iter_mut() {
+                    *$x = $step;
+                }
+            }
+            x.iter().map($sum).sum()
         }
-    }
-    x.iter().map(|v| _mm512_reduce_add_pd(*v)).sum()
+    };
+}
+
+/// The sum of an AVX register's four lanes (called by the AVX2 builds only).
+#[cfg(target_arch = "x86_64")]
+fn sum256(v: &std::arch::x86_64::__m256d) -> f64 {
+    let mut out = [0.0; 4];
+    // SAFETY: `out` holds 4 f64, the width of one AVX register, and only the AVX2 builds, run
+    // where the CPU reported AVX2, hold such a register.
+    unsafe { std::arch::x86_64::_mm256_storeu_pd(out.as_mut_ptr(), *v) };
+    out.iter().sum()
 }
 
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn fma_avx2(a: f64, b: f64) -> f64 {
-    use std::arch::x86_64::*;
-    let (va, vb) = (_mm256_set1_pd(a), _mm256_set1_pd(b));
-    let mut x = [_mm256_set1_pd(1.0); CHAINS];
+chains!(
+    "avx512f",
+    fma_avx512(a, b),
+    _mm512_set1_pd(1.0),
+    |x| _mm512_fmadd_pd(*x, _mm512_set1_pd(a), _mm512_set1_pd(b)),
+    |v| _mm512_reduce_add_pd(*v)
+);
+#[cfg(target_arch = "x86_64")]
+chains!(
+    "avx2,fma",
+    fma_avx2(a, b),
+    _mm256_set1_pd(1.0),
+    |x| _mm256_fmadd_pd(*x, _mm256_set1_pd(a), _mm256_set1_pd(b)),
+    sum256
+);
+#[cfg(target_arch = "x86_64")]
+chains!(
+    "avx512f",
+    div_avx512(a),
+    _mm512_set1_pd(1.0),
+    |x| _mm512_div_pd(*x, _mm512_set1_pd(a)),
+    |v| _mm512_reduce_add_pd(*v)
+);
+#[cfg(target_arch = "x86_64")]
+chains!(
+    "avx2",
+    div_avx2(a),
+    _mm256_set1_pd(1.0),
+    |x| _mm256_div_pd(*x, _mm256_set1_pd(a)),
+    sum256
+);
+
+/// The chains of the peaks on one f64 each, for a CPU with neither AVX-512F nor AVX2.
+fn portable(step: impl Fn(f64) -> f64) -> f64 {
+    let mut x = [1.0f64; CHAINS];
     for _ in 0..ROUNDS {
         for v in x.iter_mut() {
-            *v = _mm256_fmadd_pd(*v, va, vb);
+            *v = step(*v);
         }
     }
-    let mut out = [0.0; 4];
-    x.iter()
-        .map(|v| {
-            // SAFETY: `out` holds 4 f64, the width of one AVX register.
-            unsafe { _mm256_storeu_pd(out.as_mut_ptr(), *v) };
-            out.iter().sum::<f64>()
-        })
-        .sum()
+    x.iter().sum()
 }
 
 fn fma(a: f64, b: f64) -> f64 {
@@ -82,60 +120,7 @@ fn fma(a: f64, b: f64) -> f64 {
             return unsafe { fma_avx2(a, b) };
         }
     }
-    let mut x = [1.0f64; CHAINS];
-    for _ in 0..ROUNDS {
-        for v in x.iter_mut() {
-            *v = v.mul_add(a, b);
-        }
-    }
-    x.iter().sum()
-}
-
-fn bench_fma(c: &mut Criterion) {
-    let mut g = c.benchmark_group("roofline");
-    g.throughput(Throughput::Elements(fma_lanes() as u64));
-    g.bench_function("fma_peak_one_core", |bch| {
-        bch.iter(|| fma(black_box(0.999_999), black_box(1e-9)))
-    });
-    g.bench_function("div_peak_one_core", |bch| {
-        bch.iter(|| div(black_box(1.000_000_1)))
-    });
-    g.finish();
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-fn div_avx512(a: f64) -> f64 {
-    use std::arch::x86_64::*;
-    let va = _mm512_set1_pd(a);
-    let mut x = [_mm512_set1_pd(1.0); CHAINS];
-    for _ in 0..ROUNDS {
-        for v in x.iter_mut() {
-            *v = _mm512_div_pd(*v, va);
-        }
-    }
-    x.iter().map(|v| _mm512_reduce_add_pd(*v)).sum()
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn div_avx2(a: f64) -> f64 {
-    use std::arch::x86_64::*;
-    let va = _mm256_set1_pd(a);
-    let mut x = [_mm256_set1_pd(1.0); CHAINS];
-    for _ in 0..ROUNDS {
-        for v in x.iter_mut() {
-            *v = _mm256_div_pd(*v, va);
-        }
-    }
-    let mut out = [0.0; 4];
-    x.iter()
-        .map(|v| {
-            // SAFETY: `out` holds 4 f64, the width of one AVX register.
-            unsafe { _mm256_storeu_pd(out.as_mut_ptr(), *v) };
-            out.iter().sum::<f64>()
-        })
-        .sum()
+    portable(|v| v.mul_add(a, b))
 }
 
 /// 16 independent chains of `ROUNDS` divisions x ← x / a on the widest vectors the CPU has:
@@ -152,13 +137,19 @@ fn div(a: f64) -> f64 {
             return unsafe { div_avx2(a) };
         }
     }
-    let mut x = [1.0f64; CHAINS];
-    for _ in 0..ROUNDS {
-        for v in x.iter_mut() {
-            *v /= a;
-        }
-    }
-    x.iter().sum()
+    portable(|v| v / a)
+}
+
+fn bench_fma(c: &mut Criterion) {
+    let mut g = c.benchmark_group("roofline");
+    g.throughput(Throughput::Elements(fma_lanes() as u64));
+    g.bench_function("fma_peak_one_core", |bch| {
+        bch.iter(|| fma(black_box(0.999_999), black_box(1e-9)))
+    });
+    g.bench_function("div_peak_one_core", |bch| {
+        bch.iter(|| div(black_box(1.000_000_1)))
+    });
+    g.finish();
 }
 
 fn triad(a: &mut [f64], b: &[f64], c: &[f64], s: f64, threads: bool) {
