@@ -317,21 +317,14 @@ impl HalfSpaces {
         );
         let (a, b) = (&self.a[..], &self.b[..]);
         let half = a.len() / 2;
+        let chunk = par_modes(half);
         self.spectra[0] = split(a[0], a[0], b[0], b[0]);
         // mode j pairs a[j] with a[N − j]: a[1..=N/2] against a[N/2..N] read backwards
         // (chunks of modes, each a plain loop: per mode, rayon called the closure out of line)
         self.spectra[1..]
-            .par_chunks_mut(PAR_MODES)
-            .zip(
-                a[1..=half]
-                    .par_chunks(PAR_MODES)
-                    .zip(a[half..].par_rchunks(PAR_MODES)),
-            )
-            .zip(
-                b[1..=half]
-                    .par_chunks(PAR_MODES)
-                    .zip(b[half..].par_rchunks(PAR_MODES)),
-            )
+            .par_chunks_mut(chunk)
+            .zip(a[1..=half].par_chunks(chunk).zip(a[half..].par_rchunks(chunk)))
+            .zip(b[1..=half].par_chunks(chunk).zip(b[half..].par_rchunks(chunk)))
             .for_each(|((e, (aj, an)), (bj, bn))| {
                 let a = aj.iter().zip(an.iter().rev());
                 let b = bj.iter().zip(bn.iter().rev());
@@ -359,16 +352,17 @@ impl HalfSpaces {
         b_low[half] = f1b + mul_i(f2b);
         // j = 1..N/2: a[j] in a_low, a[N − j] in a_high read backwards
         // (chunks of modes, each a plain loop; a_high's chunks taken from its end)
+        let chunk = par_modes(half);
         let a = a_low[1..half]
-            .par_chunks_mut(PAR_MODES)
-            .zip(a_high.par_rchunks_mut(PAR_MODES));
+            .par_chunks_mut(chunk)
+            .zip(a_high.par_rchunks_mut(chunk));
         let b = b_low[1..half]
-            .par_chunks_mut(PAR_MODES)
-            .zip(b_high.par_rchunks_mut(PAR_MODES));
+            .par_chunks_mut(chunk)
+            .zip(b_high.par_rchunks_mut(chunk));
         let inputs = sums[1..half]
-            .par_chunks(PAR_MODES)
-            .zip(spectra[1..half].par_chunks(PAR_MODES))
-            .zip(k[1..half].par_chunks(PAR_MODES));
+            .par_chunks(chunk)
+            .zip(spectra[1..half].par_chunks(chunk))
+            .zip(k[1..half].par_chunks(chunk));
         a.zip(b)
             .zip(inputs)
             .for_each(|(((aj, an), (bj, bn)), ((s, e), k))| {
@@ -412,8 +406,15 @@ impl HalfSpaces {
     }
 }
 
-/// Modes per rayon task of the split and the assembly (a few µs of work each side).
-const PAR_MODES: usize = 256;
+/// Modes per rayon task of the split and the assembly: as many tasks as the pool has threads, each
+/// of at least [`MIN_PAR_MODES`]. Each phase is a few µs of work, so more tasks than threads only
+/// add their hand-outs (docs/performance.md, "The spectral model"); the chunks change no value.
+fn par_modes(modes: usize) -> usize {
+    modes.div_ceil(rayon::current_num_threads()).max(MIN_PAR_MODES)
+}
+
+/// The fewest modes a task of the split or the assembly takes.
+const MIN_PAR_MODES: usize = 256;
 
 /// z[m] = x[m] + i y[m]: two real fields of a face packed into one complex array.
 fn pack(z: &mut [Complex64], x: &[f64], y: &[f64]) {
