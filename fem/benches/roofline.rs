@@ -132,7 +132,7 @@ fn div(a: f64) -> f64 {
             // SAFETY: the CPU reported AVX-512F at run time.
             return unsafe { div_avx512(a) };
         }
-        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
+        if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU reported AVX2 at run time.
             return unsafe { div_avx2(a) };
         }
