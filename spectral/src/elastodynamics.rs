@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::convolution::{self, ModeSums, Weights};
 use crate::error::BuildError;
-use crate::fast::{FastConvolution, FastState, SoeFit};
+use crate::fast::{FastConvolution, FastState, MODES_PER_TASK, SoeFit};
 use crate::history::{Entry, History, HistoryState};
 use crate::kernels::Kernels;
 use crate::modes::Modes;
@@ -223,19 +223,33 @@ impl HalfSpaces {
     }
 
     /// As [`step`](HalfSpaces::step), booking a lap to `clock` after each phase: forward FFT,
-    /// convolution, inverse FFT (with the assembly of F^±).
+    /// convolution, inverse FFT. On the direct path the split of the transforms into spectra is
+    /// booked with the forward FFT and the assembly of F^± with the inverse one; on the fast path
+    /// both run in the recursion's tasks, each on its own modes ([`split_recursion_assembly`]),
+    /// and are booked with the convolution.
     pub fn step_timed(&mut self, u: &FaceFields, f: &mut FaceFields, clock: &mut Clock) {
-        self.forward(u);
-        clock.lap(Phase::ForwardFft);
+        self.transform(u);
         match &mut self.path {
             Path::Direct { history, weights } => {
+                split_all(&mut self.spectra, &self.a, &self.b);
+                clock.lap(Phase::ForwardFft);
                 history.push(&self.spectra);
                 convolution::convolve(history, weights, &mut self.sums);
+                clock.lap(Phase::Convolution);
+                self.assemble();
             }
-            Path::Fast(fast) => fast.step(&self.spectra, &mut self.sums),
+            Path::Fast(fast) => {
+                clock.lap(Phase::ForwardFft);
+                let (mu, c) = (self.p.shear_modulus, 2.0 - self.p.eta);
+                let modes = Spectra {
+                    spectra: &mut self.spectra,
+                    sums: &mut self.sums,
+                    k: &self.modes.k,
+                };
+                split_recursion_assembly(fast, modes, &mut self.a, &mut self.b, mu, c);
+                clock.lap(Phase::Convolution);
+            }
         }
-        clock.lap(Phase::Convolution);
-        self.assemble();
         self.inverse(f);
         clock.lap(Phase::InverseFft);
     }
@@ -244,13 +258,17 @@ impl HalfSpaces {
     /// [`step`](HalfSpaces::step) with N points and N/2 + 1 modes; each complex FFT of size N
     /// ≈ 5 N log2 N flops, its array read and written once:
     /// - forward: the four real fields read and packed into two complex arrays (32 N B each way);
-    ///   two FFTs; both arrays read and split into the spectra of the four fields (24 flops a
-    ///   mode, 64 B written);
+    ///   two FFTs;
+    /// - the split of both arrays into the spectra of the four fields (24 flops a mode, 64 B
+    ///   written): with the forward FFT on the direct path, with the convolution on the fast one
+    ///   (where it is booked);
     /// - convolution: the recursion's count (`fast.rs`: 120 flops per pole and mode, the states
     ///   read and written) or the direct sum's (`convolution.rs`: 32 flops per mode and lag);
-    /// - inverse: the sums, spectra and k read per mode and F^± assembled (49 flops a mode;
-    ///   both halves of the two arrays written, 64 B); two FFTs; both arrays read, scaled by
-    ///   1/N and unpacked into f (4 N flops, 32 N B each way).
+    /// - the assembly: the sums, spectra and k read per mode and F^± assembled (49 flops a mode;
+    ///   both halves of the two arrays written, 64 B): with the inverse FFT on the direct path,
+    ///   with the convolution on the fast one;
+    /// - inverse: two FFTs; both arrays read, scaled by 1/N and unpacked into f (4 N flops,
+    ///   32 N B each way).
     pub fn work(&self) -> StepWork {
         let n = self.p.grid_points as f64;
         let modes = (self.p.grid_points / 2 + 1) as f64;
@@ -267,23 +285,11 @@ impl HalfSpaces {
             read: 4.0 * n * 8.0,
             written: 2.0 * n * complex,
         };
-        let mut w = StepWork::default();
-        w.add(
-            Phase::ForwardFft,
-            pack + ffts
-                + Work {
-                    flops: modes * SPLIT_FLOPS_PER_MODE,
-                    read: 2.0 * n * complex,
-                    written: modes * entry,
-                },
-        );
-        w.add(
-            Phase::Convolution,
-            match &self.path {
-                Path::Direct { weights, .. } => weights.work(),
-                Path::Fast(fast) => fast.work(),
-            },
-        );
+        let split = Work {
+            flops: modes * SPLIT_FLOPS_PER_MODE,
+            read: 2.0 * n * complex,
+            written: modes * entry,
+        };
         let unpack = Work {
             flops: 4.0 * n,
             read: pack.written,
@@ -294,14 +300,25 @@ impl HalfSpaces {
             read: modes * (std::mem::size_of::<ModeSums>() as f64 + entry + 8.0),
             written: 2.0 * n * complex,
         };
-        w.add(Phase::InverseFft, assemble + ffts + unpack);
+        let mut w = StepWork::default();
+        match &self.path {
+            Path::Direct { weights, .. } => {
+                w.add(Phase::ForwardFft, pack + ffts + split);
+                w.add(Phase::Convolution, weights.work());
+                w.add(Phase::InverseFft, assemble + ffts + unpack);
+            }
+            Path::Fast(fast) => {
+                w.add(Phase::ForwardFft, pack + ffts);
+                w.add(Phase::Convolution, split + fast.work() + assemble);
+                w.add(Phase::InverseFft, ffts + unpack);
+            }
+        }
         w
     }
 
-    /// Two complex FFTs of the packed real fields; spectra j = 0..=N/2 of the four fields. Each
-    /// face is packed and transformed on its own rayon worker, then the modes are split in
-    /// parallel: every value is computed as by a serial loop, whatever the thread count.
-    fn forward(&mut self, u: &FaceFields) {
+    /// Two complex FFTs of the packed real fields, each face packed and transformed on its own
+    /// rayon worker.
+    fn transform(&mut self, u: &FaceFields) {
         let plan = &self.fwd;
         let (a, b) = (&mut self.a, &mut self.b);
         let (sa, sb) = (&mut self.scratch, &mut self.scratch_b);
@@ -315,23 +332,6 @@ impl HalfSpaces {
                 plan.process_with_scratch(b, sb);
             },
         );
-        let (a, b) = (&self.a[..], &self.b[..]);
-        let half = a.len() / 2;
-        let chunk = par_modes(half);
-        self.spectra[0] = split(a[0], a[0], b[0], b[0]);
-        // mode j pairs a[j] with a[N − j]: a[1..=N/2] against a[N/2..N] read backwards
-        // (chunks of modes, each a plain loop: per mode, rayon called the closure out of line)
-        self.spectra[1..]
-            .par_chunks_mut(chunk)
-            .zip(a[1..=half].par_chunks(chunk).zip(a[half..].par_rchunks(chunk)))
-            .zip(b[1..=half].par_chunks(chunk).zip(b[half..].par_rchunks(chunk)))
-            .for_each(|((e, (aj, an)), (bj, bn))| {
-                let a = aj.iter().zip(an.iter().rev());
-                let b = bj.iter().zip(bn.iter().rev());
-                for (e, ((&aj, &an), (&bj, &bn))) in e.iter_mut().zip(a.zip(b)) {
-                    *e = split(aj, an, bj, bn);
-                }
-            });
     }
 
     /// F^±(k_j) from the convolutions and the instantaneous (2−η) coupling, packed for the
@@ -344,12 +344,7 @@ impl HalfSpaces {
         let (sums, spectra, k) = (&self.sums[..], &self.spectra[..], &self.modes.k[..]);
         let (a_low, a_high) = self.a.split_at_mut(half + 1);
         let (b_low, b_high) = self.b.split_at_mut(half + 1);
-        a_low[0] = Complex64::default();
-        b_low[0] = Complex64::default();
-        // Nyquist mode: no coupling, no conjugate half
-        let [f1t, f2t, f1b, f2b] = forces(mu * k[half], 0.0, c, &sums[half], &spectra[half]);
-        a_low[half] = f1t + mul_i(f2t);
-        b_low[half] = f1b + mul_i(f2b);
+        assemble_ends(a_low, b_low, mu * k[half], c, &sums[half], &spectra[half]);
         // j = 1..N/2: a[j] in a_low, a[N − j] in a_high read backwards
         // (chunks of modes, each a plain loop; a_high's chunks taken from its end)
         let chunk = par_modes(half);
@@ -365,19 +360,7 @@ impl HalfSpaces {
             .zip(k[1..half].par_chunks(chunk));
         a.zip(b)
             .zip(inputs)
-            .for_each(|(((aj, an), (bj, bn)), ((s, e), k))| {
-                let a = aj.iter_mut().zip(an.iter_mut().rev());
-                let b = bj.iter_mut().zip(bn.iter_mut().rev());
-                for (((aj, an), (bj, bn)), ((s, e), &kj)) in a.zip(b).zip(s.iter().zip(e).zip(k)) {
-                    let muk = mu * kj;
-                    let [f1t, f2t, f1b, f2b] = forces(muk, muk, c, s, e);
-                    *aj = f1t + mul_i(f2t);
-                    *bj = f1b + mul_i(f2b);
-                    // the conjugate half (the fields are real: F(−k) = F̄(k))
-                    *an = f1t.conj() + mul_i(f2t.conj());
-                    *bn = f1b.conj() + mul_i(f2b.conj());
-                }
-            });
+            .for_each(|(((aj, an), (bj, bn)), ((s, e), k))| assemble_modes([aj, an, bj, bn], s, e, k, mu, c));
     }
 
     /// The two inverse FFTs, each face's on its own rayon worker, scaled by 1/N and unpacked
@@ -415,6 +398,125 @@ fn par_modes(modes: usize) -> usize {
 
 /// The fewest modes a task of the split or the assembly takes.
 const MIN_PAR_MODES: usize = 256;
+
+/// The spectra j = 0..=N/2 of the four fields from the two packed transforms, modes in
+/// parallel: every value is computed as by a serial loop, whatever the thread count.
+fn split_all(spectra: &mut [Entry], a: &[Complex64], b: &[Complex64]) {
+    let half = a.len() / 2;
+    let chunk = par_modes(half);
+    spectra[0] = split(a[0], a[0], b[0], b[0]);
+    // mode j pairs a[j] with a[N − j]: a[1..=N/2] against a[N/2..N] read backwards
+    // (chunks of modes, each a plain loop: per mode, rayon called the closure out of line)
+    spectra[1..]
+        .par_chunks_mut(chunk)
+        .zip(a[1..=half].par_chunks(chunk).zip(a[half..].par_rchunks(chunk)))
+        .zip(b[1..=half].par_chunks(chunk).zip(b[half..].par_rchunks(chunk)))
+        .for_each(|((e, (aj, an)), (bj, bn))| split_modes(e, [aj, an, bj, bn]));
+}
+
+/// [`split`] over consecutive modes j: `aj` and `bj` hold the transforms at j, `an` and `bn` at
+/// N − j, in the arrays' order (so read backwards).
+fn split_modes(e: &mut [Entry], [aj, an, bj, bn]: [&[Complex64]; 4]) {
+    let a = aj.iter().zip(an.iter().rev());
+    let b = bj.iter().zip(bn.iter().rev());
+    for (e, ((&aj, &an), (&bj, &bn))) in e.iter_mut().zip(a.zip(b)) {
+        *e = split(aj, an, bj, bn);
+    }
+}
+
+/// Modes 0 and N/2 of the packed F^± (`a_low` and `b_low` hold modes 0..=N/2): zero at j = 0;
+/// at Nyquist no coupling and no conjugate half, `muk` = μ k_{N/2}.
+fn assemble_ends(
+    a_low: &mut [Complex64],
+    b_low: &mut [Complex64],
+    muk: f64,
+    c: f64,
+    s: &ModeSums,
+    e: &Entry,
+) {
+    let half = a_low.len() - 1;
+    a_low[0] = Complex64::default();
+    b_low[0] = Complex64::default();
+    let [f1t, f2t, f1b, f2b] = forces(muk, 0.0, c, s, e);
+    a_low[half] = f1t + mul_i(f2t);
+    b_low[half] = f1b + mul_i(f2b);
+}
+
+/// F^± of consecutive modes 0 < j < N/2 packed for the inverse, at j (`aj`, `bj`) and their
+/// conjugate halves at N − j (`an`, `bn`, in the arrays' order, so written backwards).
+fn assemble_modes(
+    [aj, an, bj, bn]: [&mut [Complex64]; 4],
+    s: &[ModeSums],
+    e: &[Entry],
+    k: &[f64],
+    mu: f64,
+    c: f64,
+) {
+    let a = aj.iter_mut().zip(an.iter_mut().rev());
+    let b = bj.iter_mut().zip(bn.iter_mut().rev());
+    for (((aj, an), (bj, bn)), ((s, e), &kj)) in a.zip(b).zip(s.iter().zip(e).zip(k)) {
+        let muk = mu * kj;
+        let [f1t, f2t, f1b, f2b] = forces(muk, muk, c, s, e);
+        *aj = f1t + mul_i(f2t);
+        *bj = f1b + mul_i(f2b);
+        // the conjugate half (the fields are real: F(−k) = F̄(k))
+        *an = f1t.conj() + mul_i(f2t.conj());
+        *bn = f1b.conj() + mul_i(f2b.conj());
+    }
+}
+
+/// A half-space pair's per-mode buffers and wavenumbers, j = 0..=N/2.
+struct Spectra<'a> {
+    spectra: &'a mut [Entry],
+    sums: &'a mut [ModeSums],
+    /// k_j [1/m].
+    k: &'a [f64],
+}
+
+/// The fast path's split, recursion and assembly in one pass over the modes: each rayon task
+/// takes the recursion's [`MODES_PER_TASK`] modes, splits their spectra out of the packed
+/// transforms `a` and `b`, pushes them into the recursion, and writes their F^± back into `a`
+/// and `b` at the same places (mode j and its conjugate N − j are the task's alone). Each value
+/// is computed by the operations of the separate passes ([`split_all`], [`FastConvolution::step`],
+/// [`HalfSpaces::assemble`]) in their order, so the bits are theirs; one parallel pass instead
+/// of three saves two hand-outs of tasks a step, and each task's spectra and sums stay in its
+/// core's cache.
+fn split_recursion_assembly(
+    fast: &mut FastConvolution,
+    m: Spectra<'_>,
+    a: &mut [Complex64],
+    b: &mut [Complex64],
+    mu: f64,
+    c: f64,
+) {
+    let half = a.len() / 2;
+    let Spectra { spectra, sums, k } = m;
+    let (a_low, a_high) = a.split_at_mut(half + 1);
+    let (b_low, b_high) = b.split_at_mut(half + 1);
+    // j = 1..N/2: a[j] in a_low, a[N − j] in a_high from its end, chunked as the recursion's blocks
+    let chunk = MODES_PER_TASK;
+    let low = a_low[1..half]
+        .par_chunks_mut(chunk)
+        .zip(b_low[1..half].par_chunks_mut(chunk));
+    let high = a_high.par_rchunks_mut(chunk).zip(b_high.par_rchunks_mut(chunk));
+    let per_mode = spectra[1..half]
+        .par_chunks_mut(chunk)
+        .zip(sums[1..half].par_chunks_mut(chunk))
+        .zip(k[1..half].par_chunks(chunk));
+    fast.blocks(1..half).zip(low.zip(high)).zip(per_mode).for_each(
+        |((block, ((aj, bj), (an, bn))), ((e, s), k))| {
+            split_modes(e, [aj, an, bj, bn]);
+            block.step(e, s);
+            assemble_modes([aj, an, bj, bn], s, e, k, mu, c);
+        },
+    );
+    // modes 0 and N/2, each its own conjugate
+    spectra[0] = split(a_low[0], a_low[0], b_low[0], b_low[0]);
+    spectra[half] = split(a_low[half], a_low[half], b_low[half], b_low[half]);
+    sums[0] = ModeSums::default();
+    fast.block(half).step(&spectra[half..], &mut sums[half..]);
+    assemble_ends(a_low, b_low, mu * k[half], c, &sums[half], &spectra[half]);
+}
 
 /// z[m] = x[m] + i y[m]: two real fields of a face packed into one complex array.
 fn pack(z: &mut [Complex64], x: &[f64], y: &[f64]) {
@@ -622,4 +724,78 @@ pub(crate) enum HalfSpaceState<'a> {
     Direct(HistoryState<'a>),
     /// Fast path (§4.3).
     Fast(FastState<'a>),
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fast-path operator on `n` points (identical materials).
+    fn fast_operator(n: usize) -> HalfSpaces {
+        HalfSpaces::new(&HalfSpaceParams {
+            shear_modulus: 30e9,
+            cs: 3000.0,
+            eta: 3f64.sqrt(),
+            grid_points: n,
+            length: 1.0,
+            cs_dt_over_dx: 0.2,
+            kernel_cutoff: 100.0,
+            max_steps: 10,
+            convolution: Convolution::Fast,
+            fast_tolerance: 1e-5,
+        })
+        .unwrap()
+    }
+
+    /// The split, the recursion and the assembly, each a pass of its own over the modes.
+    fn step_in_separate_passes(h: &mut HalfSpaces, u: &FaceFields, f: &mut FaceFields) {
+        h.transform(u);
+        split_all(&mut h.spectra, &h.a, &h.b);
+        let Path::Fast(fast) = &mut h.path else {
+            panic!("the fast path")
+        };
+        fast.step(&h.spectra, &mut h.sums);
+        h.assemble();
+        h.inverse(f);
+    }
+
+    /// Face displacements that differ at every point and from step to step [m].
+    fn displacements(n: usize, step: usize) -> FaceFields {
+        let mut u = FaceFields::zeros(n);
+        let s = 1.0 + step as f64;
+        for m in 0..n {
+            let x = m as f64;
+            u.top_x[m] = 1e-5 * (0.37 * x * s).sin();
+            u.top_y[m] = 1e-5 * (0.11 * x + s).cos();
+            u.bottom_x[m] = -1e-5 * (0.23 * x * s).cos();
+            u.bottom_y[m] = 1e-5 * (0.05 * x - s).sin();
+        }
+        u
+    }
+
+    /// The fast path's one pass over the modes gives f^n of the separate passes bit for bit, over
+    /// steps (so through the recursion's states), on a grid whose modes 1..N/2 fill several
+    /// tasks with a shorter last one (N = 1 024) and on one whose modes 1..N/2 − 1 fill their
+    /// tasks exactly (N = 258), where the Nyquist mode is the only one left outside them.
+    #[test]
+    fn the_fused_pass_over_the_modes_gives_the_bits_of_the_separate_passes() {
+        for n in [1024, 2 * (MODES_PER_TASK + 1)] {
+            let (mut fused, mut apart) = (fast_operator(n), fast_operator(n));
+            let (mut f_fused, mut f_apart) = (FaceFields::zeros(n), FaceFields::zeros(n));
+            for step in 0..3 {
+                let u = displacements(n, step);
+                fused.step(&u, &mut f_fused);
+                step_in_separate_passes(&mut apart, &u, &mut f_apart);
+                let bits = |f: &FaceFields| {
+                    [&f.top_x, &f.top_y, &f.bottom_x, &f.bottom_y]
+                        .map(|c| c.iter().map(|x| x.to_bits()).collect::<Vec<_>>())
+                };
+                assert_eq!(bits(&f_fused), bits(&f_apart), "N = {n}, step {step}");
+                assert!(
+                    f_fused.top_x.iter().any(|&x| x != 0.0),
+                    "a history term at N = {n}"
+                );
+            }
+        }
+    }
 }

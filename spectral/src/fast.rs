@@ -14,6 +14,7 @@
 //! to the fit tolerance.
 
 use std::borrow::Cow;
+use std::ops::Range;
 
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
@@ -256,22 +257,68 @@ impl FastConvolution {
         fill(s, states, "sum-of-exponentials states")
     }
 
-    /// Pushes Û^n of every mode and writes the eight convolutions per mode into `out`.
-    pub fn step(&mut self, spectra: &[Entry], out: &mut [ModeSums]) {
-        let (r, isa) = (self.r, self.isa);
-        let poles = r * MODES_PER_TASK;
+    /// Pushes Û^n of every mode and writes the eight convolutions per mode into `out`: the
+    /// recursion alone, as a pass of its own (the operator runs it inside its fused pass over the
+    /// modes, `elastodynamics::split_recursion_assembly`).
+    #[cfg(test)]
+    pub(crate) fn step(&mut self, spectra: &[Entry], out: &mut [ModeSums]) {
         out[0] = ModeSums::default();
-        out[1..]
-            .par_chunks_mut(MODES_PER_TASK)
-            .zip(self.s[r..].par_chunks_mut(poles))
-            .zip(self.z[r..].par_chunks(poles).zip(self.g[r..].par_chunks(poles)))
+        let modes = out.len();
+        self.blocks(1..modes)
+            .zip(out[1..].par_chunks_mut(MODES_PER_TASK))
             .zip(spectra[1..].par_chunks(MODES_PER_TASK))
-            .for_each(|(((o, s), (z, g)), e)| dispatch(isa, (r, z, g, s, e, o)));
+            .for_each(|((block, o), e)| block.step(e, o));
+    }
+
+    /// The modes `modes` in blocks of [`MODES_PER_TASK`] (the last one shorter), one rayon task
+    /// each: a caller zips its own per-mode arrays, chunked alike, and does its work on a block's
+    /// modes in the same task as their recursion.
+    pub(crate) fn blocks(&mut self, modes: Range<usize>) -> impl IndexedParallelIterator<Item = Block<'_>> {
+        let (r, isa) = (self.r, self.isa);
+        let (poles, at) = (r * MODES_PER_TASK, modes.start * r..modes.end * r);
+        self.s[at.clone()]
+            .par_chunks_mut(poles)
+            .zip(
+                self.z[at.clone()]
+                    .par_chunks(poles)
+                    .zip(self.g[at].par_chunks(poles)),
+            )
+            .map(move |(s, (z, g))| Block { r, isa, z, g, s })
+    }
+
+    /// Mode `j` alone, as a block.
+    pub(crate) fn block(&mut self, j: usize) -> Block<'_> {
+        let at = j * self.r..(j + 1) * self.r;
+        Block {
+            r: self.r,
+            isa: self.isa,
+            z: &self.z[at.clone()],
+            g: &self.g[at.clone()],
+            s: &mut self.s[at],
+        }
+    }
+}
+
+/// Consecutive modes' coefficients and recursion states, from [`FastConvolution::blocks`] or
+/// [`FastConvolution::block`].
+pub(crate) struct Block<'a> {
+    r: usize,
+    isa: Isa,
+    z: &'a [Complex64],
+    g: &'a [[Complex64; 3]],
+    s: &'a mut [State],
+}
+
+impl Block<'_> {
+    /// Pushes Û^n of the block's modes (`spectra`, one a mode) and writes their eight
+    /// convolutions into `out`.
+    pub(crate) fn step(self, spectra: &[Entry], out: &mut [ModeSums]) {
+        dispatch(self.isa, (self.r, self.z, self.g, self.s, spectra, out));
     }
 }
 
 /// Modes per rayon task of the recursion (each mode's result depends on that mode alone).
-const MODES_PER_TASK: usize = 128;
+pub(crate) const MODES_PER_TASK: usize = 128;
 
 /// The fast path's recursion states (§4.3; `crate::fast::FastConvolution`).
 #[derive(Debug, Serialize, Deserialize)]
