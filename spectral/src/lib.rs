@@ -178,24 +178,26 @@ pub fn run_checkpointed(
                 if stop.load(Ordering::Relaxed) {
                     return Some((n, t, None));
                 }
-                if let Some(m) = solver::step(&model, &mut st, &mut ws, n) {
+                let contact_due = t >= at.next_contact as f64 * scene.output_interval - 1e-9 * dt;
+                let field_due = field_interval.is_some_and(|fi| t >= at.next_field as f64 * fi - 1e-9 * dt);
+                // u^{n+1} within the law's tasks, unless this step's records read u^n
+                let advance_in_law = n < last && !contact_due && !field_due;
+                if let Some(m) = solver::step(&model, &mut st, &mut ws, n, advance_in_law) {
                     return Some((n, t, Some(m)));
                 }
                 out.stats.steps = n + 1;
                 out.stats.last_step = n;
                 out.tips.push(diag::tips(&model, &st, t));
-                if t >= at.next_contact as f64 * scene.output_interval - 1e-9 * dt {
+                if contact_due {
                     out.contact.push(diag::contact_means(&model, &st, t));
                     at.next_contact += 1;
                 }
-                if let Some(fi) = field_interval
-                    && t >= at.next_field as f64 * fi - 1e-9 * dt
-                {
+                if field_due {
                     diag::fields(&model, &st, t, &mut out.fields);
                     at.next_field += 1;
                 }
                 ws.clock.lap(Phase::Records);
-                if n < last {
+                if n < last && !advance_in_law {
                     solver::advance(&model, &mut st);
                 }
                 ws.clock.lap(Phase::Update);

@@ -172,29 +172,60 @@ pub(crate) fn far_field(model: &Model, t: f64) -> (f64, f64) {
 }
 
 /// Step n at t_n = n Δt: computes v^n and T^n from u^n. Returns the first grid point whose
-/// velocity is non-finite or exceeds `v_limit` (blow-up), if any.
-pub(crate) fn step(model: &Model, st: &mut State, ws: &mut Workspace, n: u64) -> Option<usize> {
+/// velocity is non-finite or exceeds `v_limit` (blow-up), if any. With `then_advance`, each rayon
+/// task of the law also updates its points' displacements to u^{n+1} right after their velocities
+/// ([`advance_points`], so the bits of [`advance`]), while they are in its core's cache: for a
+/// step whose records do not read u^n, in place of a pass of its own.
+pub(crate) fn step(
+    model: &Model,
+    st: &mut State,
+    ws: &mut Workspace,
+    n: u64,
+    then_advance: bool,
+) -> Option<usize> {
     let t = n as f64 * model.dt;
     let load = far_field(model, t);
     ws.half.step_timed(&st.u, &mut ws.f, &mut ws.clock);
-    let blown = solve_law(model, load, &ws.f, &st.u, &mut st.points);
+    let dt = then_advance.then_some(model.dt);
+    let blown = solve_law(model, load, &ws.f, &mut st.u, &mut st.points, dt);
     ws.clock.lap(Phase::Law);
     blown
 }
 
 /// The interface law at every point, [`LAW_CHUNK`] points per rayon task: the first point whose
-/// velocity blew up, if any.
+/// velocity blew up, if any. With `advance` = Some(Δt), each task then takes its points to
+/// u^{n+1}.
 fn solve_law(
     model: &Model,
     load: (f64, f64),
     f: &FaceFields,
-    u: &FaceFields,
+    u: &mut FaceFields,
     points: &mut [Point],
+    advance: Option<f64>,
 ) -> Option<usize> {
+    let FaceFields {
+        top_x,
+        top_y,
+        bottom_x,
+        bottom_y,
+    } = u;
+    let top = top_x
+        .par_chunks_mut(LAW_CHUNK)
+        .zip(top_y.par_chunks_mut(LAW_CHUNK));
+    let bottom = bottom_x
+        .par_chunks_mut(LAW_CHUNK)
+        .zip(bottom_y.par_chunks_mut(LAW_CHUNK));
     points
         .par_chunks_mut(LAW_CHUNK)
+        .zip(top.zip(bottom))
         .enumerate()
-        .filter_map(|(c, chunk)| solve_points(model, load, c * LAW_CHUNK, f, u, chunk))
+        .filter_map(|(c, (chunk, ((tx, ty), (bx, by))))| {
+            let blown = solve_points_with(model, load, c * LAW_CHUNK, f, [&*tx, &*ty, &*bx, &*by], chunk);
+            if let Some(dt) = advance {
+                advance_points(dt, chunk, [tx, ty, bx, by]);
+            }
+            blown
+        })
         .min()
 }
 
@@ -214,31 +245,29 @@ const LAW_FLOPS_PER_POINT: f64 = 7.0 + (6.0 + 6.0 + 2.0) + 2.0 * 9.0 + 4.0 + 2.0
 /// - law: f and u of the four face components read (64 B), the nucleation stress (8 B), the
 ///   point's state read and written (`size_of::<Point>()` each way), [`LAW_FLOPS_PER_POINT`];
 /// - update: the four velocities of the point and u read, u written, 4 multiply-adds (8 flops).
+///   Counted with the law, in whose tasks it runs at every step whose records do not read u^n
+///   ([`step`]); the others' update pass is booked to [`Phase::Update`], which counts no work.
 pub(crate) fn work(model: &Model, ws: &Workspace) -> StepWork {
     let n = model.n as f64;
     let point = std::mem::size_of::<Point>() as f64;
     let mut w = ws.half.work();
-    w.add(
-        Phase::Law,
-        Work {
-            flops: n * LAW_FLOPS_PER_POINT,
-            read: n * (64.0 + 8.0 + point),
-            written: n * point,
-        },
-    );
-    w.add(
-        Phase::Update,
-        Work {
-            flops: n * 8.0,
-            read: n * (32.0 + 32.0),
-            written: n * 32.0,
-        },
-    );
+    let law = Work {
+        flops: n * LAW_FLOPS_PER_POINT,
+        read: n * (64.0 + 8.0 + point),
+        written: n * point,
+    };
+    let update = Work {
+        flops: n * 8.0,
+        read: n * (32.0 + 32.0),
+        written: n * 32.0,
+    };
+    w.add(Phase::Law, law + update);
     w
 }
 
 /// Interface law at the points `first..first + points.len()` (§5.4), [`law::solve_points`] with
 /// their loads: returns the first point whose velocity blew up, if any.
+#[cfg(test)]
 fn solve_points(
     model: &Model,
     load: (f64, f64),
@@ -248,51 +277,70 @@ fn solve_points(
     points: &mut [Point],
 ) -> Option<usize> {
     let r = first..first + points.len();
+    let u = [&u.top_x, &u.top_y, &u.bottom_x, &u.bottom_y].map(|u| &u[r.clone()]);
+    solve_points_with(model, load, first, f, u, points)
+}
+
+/// As `solve_points`, given the points' own displacements u (top x, top y, bottom x, bottom y).
+fn solve_points_with(
+    model: &Model,
+    load: (f64, f64),
+    first: usize,
+    f: &FaceFields,
+    [u_top_x, u_top_y, u_bottom_x, u_bottom_y]: [&[f64]; 4],
+    points: &mut [Point],
+) -> Option<usize> {
+    let r = first..first + points.len();
     let d = Drives {
         load,
         nucleation: &model.nucleation[r.clone()],
         f_top_x: &f.top_x[r.clone()],
         f_bottom_x: &f.bottom_x[r.clone()],
         f_top_y: &f.top_y[r.clone()],
-        f_bottom_y: &f.bottom_y[r.clone()],
-        u_top_x: &u.top_x[r.clone()],
-        u_bottom_x: &u.bottom_x[r.clone()],
-        u_top_y: &u.top_y[r.clone()],
-        u_bottom_y: &u.bottom_y[r],
+        f_bottom_y: &f.bottom_y[r],
+        u_top_x,
+        u_bottom_x,
+        u_top_y,
+        u_bottom_y,
     };
     law::solve_points(model.law_build, &model.law, model.v_limit, &d, points).map(|i| first + i)
 }
 
-/// u^{n+1} = u^n + Δt v^n (§4.2 step 7), [`LAW_CHUNK`] points per rayon task.
+/// u^{n+1} = u^n + Δt v^n (§4.2 step 7), one rayon task a thread, each of at least [`LAW_CHUNK`]
+/// points: the work is the same at every point, so more tasks than threads only add their hand-outs.
 pub(crate) fn advance(model: &Model, st: &mut State) {
     let dt = model.dt;
+    let chunk = st
+        .points
+        .len()
+        .div_ceil(rayon::current_num_threads())
+        .max(LAW_CHUNK);
     let FaceFields {
         top_x,
         top_y,
         bottom_x,
         bottom_y,
     } = &mut st.u;
-    let top = top_x
-        .par_chunks_mut(LAW_CHUNK)
-        .zip(top_y.par_chunks_mut(LAW_CHUNK));
-    let bottom = bottom_x
-        .par_chunks_mut(LAW_CHUNK)
-        .zip(bottom_y.par_chunks_mut(LAW_CHUNK));
+    let top = top_x.par_chunks_mut(chunk).zip(top_y.par_chunks_mut(chunk));
+    let bottom = bottom_x.par_chunks_mut(chunk).zip(bottom_y.par_chunks_mut(chunk));
     st.points
-        .par_chunks(LAW_CHUNK)
+        .par_chunks(chunk)
         .zip(top.zip(bottom))
-        .for_each(|(points, ((tx, ty), (bx, by)))| {
-            let u = tx
-                .iter_mut()
-                .zip(ty.iter_mut())
-                .zip(bx.iter_mut().zip(by.iter_mut()));
-            for (p, ((tx, ty), (bx, by))) in points.iter().zip(u) {
-                *tx += dt * p.v[0];
-                *ty += dt * p.v[1];
-                *bx += dt * p.v[2];
-                *by += dt * p.v[3];
-            }
-        });
+        .for_each(|(points, ((tx, ty), (bx, by)))| advance_points(dt, points, [tx, ty, bx, by]));
+}
+
+/// u += Δt v at each of `points`, u given as its (top x, top y, bottom x, bottom y) slices.
+fn advance_points(dt: f64, points: &[Point], [tx, ty, bx, by]: [&mut [f64]; 4]) {
+    let u = tx
+        .iter_mut()
+        .zip(ty.iter_mut())
+        .zip(bx.iter_mut().zip(by.iter_mut()));
+    for (p, ((tx, ty), (bx, by))) in points.iter().zip(u) {
+        *tx += dt * p.v[0];
+        *ty += dt * p.v[1];
+        *bx += dt * p.v[2];
+        *by += dt * p.v[3];
+    }
 }
 
 #[cfg(test)]
@@ -333,7 +381,10 @@ mod tests {
         let mut serial = points.clone();
         assert_eq!(solve_points(&model, load, 0, &f, &u, &mut serial), None);
         let mut chunked = points;
-        assert_eq!(solve_law(&model, load, &f, &u, &mut chunked), None);
+        assert_eq!(
+            solve_law(&model, load, &f, &mut u.clone(), &mut chunked, None),
+            None
+        );
         // every branch taken, so that equality is not that of a uniform interface
         let states = |s: PointState| serial.iter().filter(|p| p.strength.state == s).count();
         for s in [
@@ -460,9 +511,50 @@ mod tests {
         f.top_x[late] = f64::NAN;
         f.bottom_y[early] = 1e30;
         let mut p = points.clone();
-        assert_eq!(solve_law(&model, (0.0, 0.0), &f, &u, &mut p), Some(early));
+        assert_eq!(
+            solve_law(&model, (0.0, 0.0), &f, &mut u.clone(), &mut p, None),
+            Some(early)
+        );
         f.bottom_y[early] = 0.0;
         let mut p = points;
-        assert_eq!(solve_law(&model, (0.0, 0.0), &f, &u, &mut p), Some(late));
+        assert_eq!(
+            solve_law(&model, (0.0, 0.0), &f, &mut u.clone(), &mut p, None),
+            Some(late)
+        );
+    }
+
+    /// The law's tasks that also take their points to u^{n+1} leave the velocities, tractions
+    /// and states of the law alone and the displacements of the update pass after it, bit for bit.
+    #[test]
+    fn the_law_tasks_advance_u_as_the_update_pass_does() {
+        let (model, points, f, u) = model_and_fields();
+        let load = (0.1e6, -0.05e6);
+        let mut apart = State {
+            u: u.clone(),
+            points: points.clone(),
+        };
+        assert_eq!(
+            solve_law(&model, load, &f, &mut apart.u, &mut apart.points, None),
+            None
+        );
+        assert_eq!(apart.u, u, "the law alone leaves u^n");
+        advance(&model, &mut apart);
+        let mut fused = State { u, points };
+        assert_eq!(
+            solve_law(&model, load, &f, &mut fused.u, &mut fused.points, Some(model.dt)),
+            None
+        );
+        for (m, (a, b)) in apart.points.iter().zip(&fused.points).enumerate() {
+            assert_eq!(bits(a), bits(b), "point {m}");
+        }
+        let fields = |u: &FaceFields| {
+            [&u.top_x, &u.top_y, &u.bottom_x, &u.bottom_y]
+                .map(|c| c.iter().map(|x| x.to_bits()).collect::<Vec<_>>())
+        };
+        assert_eq!(fields(&apart.u), fields(&fused.u));
+        assert!(
+            apart.points.iter().any(|p| p.v.iter().any(|&v| v != 0.0)),
+            "some point moves"
+        );
     }
 }
