@@ -510,10 +510,9 @@ fn split_recursion_assembly(
             assemble_modes([aj, an, bj, bn], s, e, k, mu, c);
         },
     );
-    // modes 0 and N/2, each its own conjugate
-    spectra[0] = split(a_low[0], a_low[0], b_low[0], b_low[0]);
+    // the Nyquist mode, its own conjugate; mode 0 has no history term and F(k = 0) = 0, so its
+    // spectra and sums are not needed
     spectra[half] = split(a_low[half], a_low[half], b_low[half], b_low[half]);
-    sums[0] = ModeSums::default();
     fast.block(half).step(&spectra[half..], &mut sums[half..]);
     assemble_ends(a_low, b_low, mu * k[half], c, &sums[half], &spectra[half]);
 }
