@@ -260,8 +260,8 @@ impl HalfSpaces {
     /// - forward: the four real fields read and packed into two complex arrays (32 N B each way);
     ///   two FFTs;
     /// - the split of both arrays into the spectra of the four fields (24 flops a mode, 64 B
-    ///   written): with the forward FFT on the direct path, with the convolution on the fast one
-    ///   (where it is booked);
+    ///   written): of every mode with the forward FFT on the direct path, of the modes j ≥ 1
+    ///   (mode 0 has no history term) with the convolution on the fast one (where it is booked);
     /// - convolution: the recursion's count (`fast.rs`: 120 flops per pole and mode, the states
     ///   read and written) or the direct sum's (`convolution.rs`: 32 flops per mode and lag);
     /// - the assembly: the sums, spectra and k read per mode and F^± assembled (49 flops a mode;
@@ -285,10 +285,11 @@ impl HalfSpaces {
             read: 4.0 * n * 8.0,
             written: 2.0 * n * complex,
         };
-        let split = Work {
-            flops: modes * SPLIT_FLOPS_PER_MODE,
+        // the split of `m` modes (all on the direct path, those of j ≥ 1 on the fast one)
+        let split = |m: f64| Work {
+            flops: m * SPLIT_FLOPS_PER_MODE,
             read: 2.0 * n * complex,
-            written: modes * entry,
+            written: m * entry,
         };
         let unpack = Work {
             flops: 4.0 * n,
@@ -303,13 +304,13 @@ impl HalfSpaces {
         let mut w = StepWork::default();
         match &self.path {
             Path::Direct { weights, .. } => {
-                w.add(Phase::ForwardFft, pack + ffts + split);
+                w.add(Phase::ForwardFft, pack + ffts + split(modes));
                 w.add(Phase::Convolution, weights.work());
                 w.add(Phase::InverseFft, assemble + ffts + unpack);
             }
             Path::Fast(fast) => {
                 w.add(Phase::ForwardFft, pack + ffts);
-                w.add(Phase::Convolution, split + fast.work() + assemble);
+                w.add(Phase::Convolution, split(modes - 1.0) + fast.work() + assemble);
                 w.add(Phase::InverseFft, ffts + unpack);
             }
         }

@@ -64,13 +64,13 @@ fn the_work_per_step_is_the_models_and_the_wall_times_are_not_compared() {
     let w = spectral::work_per_step(&s).unwrap();
     assert_eq!(w, a.work);
     // N = 256: four complex FFTs of 5 N log2 N flops each; the scaling by 1/N of the four fields;
-    // on the fast path the split into spectra (24 flops for each of the 129 modes) and the
-    // assembly (49 for each of the 128 modes j ≥ 1) are the convolution's
+    // on the fast path the split into spectra and the assembly of the 128 modes j ≥ 1 (24 and 49
+    // flops a mode) are the convolution's
     let ffts = 4.0 * 5.0 * 256.0 * 8.0;
     let fft_phases = w.of(Phase::ForwardFft).flops + w.of(Phase::InverseFft).flops;
     assert_eq!(fft_phases, ffts + 4.0 * 256.0);
     let terms = a.stats.exp_terms as f64;
-    let conv = w.of(Phase::Convolution).flops - (24.0 * 129.0 + 49.0 * 128.0);
+    let conv = w.of(Phase::Convolution).flops - (24.0 + 49.0) * 128.0;
     // 120 flops per pole and mode; a conjugate pair is one pole, a real pole one term
     assert!(
         conv <= 128.0 * terms * 120.0 && conv >= 128.0 * (terms / 2.0) * 120.0,
