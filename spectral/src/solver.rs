@@ -203,23 +203,11 @@ fn solve_law(
     points: &mut [Point],
     advance: Option<f64>,
 ) -> Option<usize> {
-    let FaceFields {
-        top_x,
-        top_y,
-        bottom_x,
-        bottom_y,
-    } = u;
-    let top = top_x
-        .par_chunks_mut(LAW_CHUNK)
-        .zip(top_y.par_chunks_mut(LAW_CHUNK));
-    let bottom = bottom_x
-        .par_chunks_mut(LAW_CHUNK)
-        .zip(bottom_y.par_chunks_mut(LAW_CHUNK));
     points
         .par_chunks_mut(LAW_CHUNK)
-        .zip(top.zip(bottom))
+        .zip(par_point_chunks(u, LAW_CHUNK))
         .enumerate()
-        .filter_map(|(c, (chunk, ((tx, ty), (bx, by))))| {
+        .filter_map(|(c, (chunk, [tx, ty, bx, by]))| {
             let blown = solve_points_with(model, load, c * LAW_CHUNK, f, [&*tx, &*ty, &*bx, &*by], chunk);
             if let Some(dt) = advance {
                 advance_points(dt, chunk, [tx, ty, bx, by]);
@@ -315,18 +303,27 @@ pub(crate) fn advance(model: &Model, st: &mut State) {
         .len()
         .div_ceil(rayon::current_num_threads())
         .max(LAW_CHUNK);
+    st.points
+        .par_chunks(chunk)
+        .zip(par_point_chunks(&mut st.u, chunk))
+        .for_each(|(points, u)| advance_points(dt, points, u));
+}
+
+/// The four components of `u` (top x, top y, bottom x, bottom y) in chunks of `chunk` points,
+/// one item a chunk, to zip with the points' own chunks.
+fn par_point_chunks(
+    u: &mut FaceFields,
+    chunk: usize,
+) -> impl IndexedParallelIterator<Item = [&mut [f64]; 4]> {
     let FaceFields {
         top_x,
         top_y,
         bottom_x,
         bottom_y,
-    } = &mut st.u;
+    } = u;
     let top = top_x.par_chunks_mut(chunk).zip(top_y.par_chunks_mut(chunk));
     let bottom = bottom_x.par_chunks_mut(chunk).zip(bottom_y.par_chunks_mut(chunk));
-    st.points
-        .par_chunks(chunk)
-        .zip(top.zip(bottom))
-        .for_each(|(points, ((tx, ty), (bx, by)))| advance_points(dt, points, [tx, ty, bx, by]));
+    top.zip(bottom).map(|((tx, ty), (bx, by))| [tx, ty, bx, by])
 }
 
 /// u += Δt v at each of `points`, u given as its (top x, top y, bottom x, bottom y) slices.
