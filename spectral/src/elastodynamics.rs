@@ -225,7 +225,7 @@ impl HalfSpaces {
     /// As [`step`](HalfSpaces::step), booking a lap to `clock` after each phase: forward FFT,
     /// convolution, inverse FFT. On the direct path the split of the transforms into spectra is
     /// booked with the forward FFT and the assembly of F^± with the inverse one; on the fast path
-    /// both run in the recursion's tasks, each on its own modes ([`split_recursion_assembly`]),
+    /// both run in the recursion's tasks, each on its own modes (`split_recursion_assembly`),
     /// and are booked with the convolution.
     pub fn step_timed(&mut self, u: &FaceFields, f: &mut FaceFields, clock: &mut Clock) {
         self.transform(u);
@@ -478,7 +478,7 @@ struct Spectra<'a> {
 /// takes the recursion's [`MODES_PER_TASK`] modes, splits their spectra out of the packed
 /// transforms `a` and `b`, pushes them into the recursion, and writes their F^± back into `a`
 /// and `b` at the same places (mode j and its conjugate N − j are the task's alone). Each value
-/// is computed by the operations of the separate passes ([`split_all`], [`FastConvolution::step`],
+/// is computed by the operations of the separate passes ([`split_all`], `FastConvolution::step`,
 /// [`HalfSpaces::assemble`]) in their order, so the bits are theirs; one parallel pass instead
 /// of three saves two hand-outs of tasks a step, and each task's spectra and sums stay in its
 /// core's cache.

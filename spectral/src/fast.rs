@@ -219,7 +219,7 @@ impl FastConvolution {
         self.z.len() * 16 + self.g.len() * 48 + self.s.len() * std::mem::size_of::<State>()
     }
 
-    /// Work of one [`step`](FastConvolution::step) (docs/spectral-model.md §4.3): per mode
+    /// Work of the recursion over one step (docs/spectral-model.md §4.3): per mode
     /// j ≥ 1, its spectra Û read and its eight sums written; per pole of the mode, z and the
     /// three g read, the state read and written back, and [`FLOPS_PER_POLE`] flops. Mode 0's
     /// coefficients and states, which [`bytes`](FastConvolution::bytes) counts, are not touched.
