@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::convolution::{self, ModeSums, Weights};
 use crate::error::BuildError;
-use crate::fast::{FastConvolution, FastState, MODES_PER_TASK, SoeFit};
+use crate::fast::{FastConvolution, FastState, MODES_PER_TASK, Packed, SoeFit};
 use crate::history::{Entry, History, HistoryState};
 use crate::kernels::Kernels;
 use crate::modes::Modes;
@@ -266,7 +266,9 @@ impl HalfSpaces {
     ///   read and written) or the direct sum's (`convolution.rs`: 32 flops per mode and lag);
     /// - the assembly: the sums, spectra and k read per mode and F^± assembled (49 flops a mode;
     ///   both halves of the two arrays written, 64 B): with the inverse FFT on the direct path,
-    ///   with the convolution on the fast one;
+    ///   with the convolution on the fast one; where the fast path runs the split, the recursion
+    ///   and the assembly of a mode in one loop (AVX-512, `FastConvolution::fuses_modes`), the
+    ///   spectra and sums of the modes 0 < j < N/2 are neither written nor read back;
     /// - inverse: two FFTs; both arrays read, scaled by 1/N and unpacked into f (4 N flops,
     ///   32 N B each way).
     pub fn work(&self) -> StepWork {
@@ -309,8 +311,17 @@ impl HalfSpaces {
                 w.add(Phase::InverseFft, assemble + ffts + unpack);
             }
             Path::Fast(fast) => {
+                let mut convolution = split(modes - 1.0) + fast.work() + assemble;
+                if fast.fuses_modes() {
+                    // the modes 0 < j < N/2 keep their spectra and sums in registers: none
+                    // written by the split or the recursion, none read by the recursion or the
+                    // assembly
+                    let (kept, sums) = (modes - 2.0, std::mem::size_of::<ModeSums>() as f64);
+                    convolution.read -= kept * (2.0 * entry + sums);
+                    convolution.written -= kept * (entry + sums);
+                }
                 w.add(Phase::ForwardFft, pack + ffts);
-                w.add(Phase::Convolution, split(modes - 1.0) + fast.work() + assemble);
+                w.add(Phase::Convolution, convolution);
                 w.add(Phase::InverseFft, ffts + unpack);
             }
         }
@@ -505,10 +516,21 @@ fn split_recursion_assembly(
         .zip(sums[1..half].par_chunks_mut(chunk))
         .zip(k[1..half].par_chunks(chunk));
     fast.blocks(1..half).zip(low.zip(high)).zip(per_mode).for_each(
-        |((block, ((aj, bj), (an, bn))), ((e, s), k))| {
-            split_modes(e, [aj, an, bj, bn]);
-            block.step(e, s);
-            assemble_modes([aj, an, bj, bn], s, e, k, mu, c);
+        |((block, ((aj, bj), (an, bn))), ((e, s), k))| match block.fused() {
+            Ok(block) => block.step(Packed {
+                aj,
+                an,
+                bj,
+                bn,
+                k,
+                mu,
+                c,
+            }),
+            Err(block) => {
+                split_modes(e, [aj, an, bj, bn]);
+                block.step(e, s);
+                assemble_modes([aj, an, bj, bn], s, e, k, mu, c);
+            }
         },
     );
     // the Nyquist mode, its own conjugate; mode 0 has no history term and F(k = 0) = 0, so its
@@ -729,6 +751,7 @@ pub(crate) enum HalfSpaceState<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fast::Isa;
 
     /// A fast-path operator on `n` points (identical materials).
     fn fast_operator(n: usize) -> HalfSpaces {
@@ -776,11 +799,22 @@ mod tests {
     /// The fast path's one pass over the modes gives f^n of the separate passes bit for bit, over
     /// steps (so through the recursion's states), on a grid whose modes 1..N/2 fill several
     /// tasks with a shorter last one (N = 1 024) and on one whose modes 1..N/2 − 1 fill their
-    /// tasks exactly (N = 258), where the Nyquist mode is the only one left outside them.
+    /// tasks exactly (N = 258), where the Nyquist mode is the only one left outside them: with
+    /// each build of the recursion this CPU runs (the AVX-512 one does the split and the
+    /// assembly in its registers) against the portable build's separate passes.
     #[test]
     fn the_fused_pass_over_the_modes_gives_the_bits_of_the_separate_passes() {
-        for n in [1024, 2 * (MODES_PER_TASK + 1)] {
+        for (n, isa) in [1024, 2 * (MODES_PER_TASK + 1)]
+            .into_iter()
+            .flat_map(|n| Isa::every_one_here().into_iter().map(move |isa| (n, isa)))
+        {
             let (mut fused, mut apart) = (fast_operator(n), fast_operator(n));
+            for (h, isa) in [(&mut fused, isa), (&mut apart, Isa::Portable)] {
+                let Path::Fast(fast) = &mut h.path else {
+                    panic!("the fast path")
+                };
+                fast.set_isa(isa);
+            }
             let (mut f_fused, mut f_apart) = (FaceFields::zeros(n), FaceFields::zeros(n));
             for step in 0..3 {
                 let u = displacements(n, step);
@@ -790,7 +824,7 @@ mod tests {
                     [&f.top_x, &f.top_y, &f.bottom_x, &f.bottom_y]
                         .map(|c| c.iter().map(|x| x.to_bits()).collect::<Vec<_>>())
                 };
-                assert_eq!(bits(&f_fused), bits(&f_apart), "N = {n}, step {step}");
+                assert_eq!(bits(&f_fused), bits(&f_apart), "N = {n}, {isa:?}, step {step}");
                 assert!(
                     f_fused.top_x.iter().any(|&x| x != 0.0),
                     "a history term at N = {n}"

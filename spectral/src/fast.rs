@@ -28,6 +28,8 @@ pub use crate::soe::SoeFit;
 
 #[cfg(target_arch = "x86_64")]
 mod avx2;
+#[cfg(target_arch = "x86_64")]
+mod avx512;
 
 /// Per-mode recursion coefficients and states, one contiguous block per mode.
 ///
@@ -92,7 +94,7 @@ fn mode_kernel(z: &[Complex64], g: &[[Complex64; 3]], s: &mut [State], u: &Lanes
 /// a multiply and an add into an FMA, so every choice computes the same bits; the wider one does
 /// a pole's eight lanes in one AVX-512 register instead of two AVX2 ones.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Isa {
+pub(crate) enum Isa {
     /// x86-64 with AVX-512F.
     Avx512,
     /// x86-64 with AVX2 and FMA.
@@ -102,6 +104,23 @@ enum Isa {
 }
 
 impl Isa {
+    /// Every build this CPU runs, the portable one first.
+    #[cfg(test)]
+    pub(crate) fn every_one_here() -> Vec<Isa> {
+        #[allow(unused_mut)] // the portable build alone off x86-64
+        let mut builds = vec![Isa::Portable];
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
+                builds.push(Isa::Avx2);
+            }
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                builds.push(Isa::Avx512);
+            }
+        }
+        builds
+    }
+
     /// The widest the CPU reports.
     fn detect() -> Isa {
         #[cfg(target_arch = "x86_64")]
@@ -214,6 +233,22 @@ impl FastConvolution {
         }
     }
 
+    /// Whether [`Block::fused`] gives its blocks to the one-loop pass (AVX-512F), in which each
+    /// mode's spectra and sums stay in registers.
+    pub(crate) fn fuses_modes(&self) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if self.isa == Isa::Avx512 {
+            return true;
+        }
+        false
+    }
+
+    /// Runs the recursion on `isa`'s build, one this CPU has ([`Isa::every_one_here`]).
+    #[cfg(test)]
+    pub(crate) fn set_isa(&mut self, isa: Isa) {
+        self.isa = isa;
+    }
+
     /// Bytes of coefficients and states touched per step [B].
     pub fn bytes(&self) -> usize {
         self.z.len() * 16 + self.g.len() * 48 + self.s.len() * std::mem::size_of::<State>()
@@ -309,12 +344,63 @@ pub(crate) struct Block<'a> {
     s: &'a mut [State],
 }
 
-impl Block<'_> {
+impl<'a> Block<'a> {
     /// Pushes Û^n of the block's modes (`spectra`, one a mode) and writes their eight
     /// convolutions into `out`.
     pub(crate) fn step(self, spectra: &[Entry], out: &mut [ModeSums]) {
         dispatch(self.isa, (self.r, self.z, self.g, self.s, spectra, out));
     }
+
+    /// The block as the one-loop pass over its modes takes it, if the CPU has AVX-512F; else
+    /// the block back, for the split, [`step`](Block::step) and the assembly as passes of their
+    /// own.
+    pub(crate) fn fused(self) -> Result<FusedBlock<'a>, Block<'a>> {
+        match self.isa {
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx512 => Ok(FusedBlock(self)),
+            _ => Err(self),
+        }
+    }
+}
+
+/// A block whose modes are split, pushed through the recursion and assembled in one loop, each
+/// mode's spectra and sums in AVX-512 registers ([`avx512::modes`]); from [`Block::fused`].
+pub(crate) struct FusedBlock<'a>(Block<'a>);
+
+impl FusedBlock<'_> {
+    /// Reads the block's modes from the packed transforms in `p`, pushes their Û^n and writes
+    /// their F^± back in place: the bits of the split, [`Block::step`] and the assembly.
+    pub(crate) fn step(self, p: Packed<'_>) {
+        let Block { r, z, g, s, .. } = self.0;
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: `Block::fused` made a FusedBlock only where `Isa::detect` found AVX-512F.
+        unsafe {
+            avx512::modes(r, z, g, s, p)
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = (r, z, g, s, p);
+    }
+}
+
+/// A block's modes in the two packed transforms (A = FFT(u^+_x + i u^+_y), B the same for the
+/// bottom face), with what their F^± take: mode m (counted from the block's first) at `aj[m]`
+/// and `bj[m]`, its conjugate N − j at `an` and `bn` read backwards. The transforms are read and
+/// F^± written back to the same places.
+pub(crate) struct Packed<'a> {
+    /// A at the block's modes j.
+    pub aj: &'a mut [Complex64],
+    /// A at N − j, in the array's order (the block's last mode first).
+    pub an: &'a mut [Complex64],
+    /// B at j.
+    pub bj: &'a mut [Complex64],
+    /// B at N − j, in the array's order.
+    pub bn: &'a mut [Complex64],
+    /// k_j [1/m].
+    pub k: &'a [f64],
+    /// Shear modulus μ [Pa].
+    pub mu: f64,
+    /// 2 − η [-].
+    pub c: f64,
 }
 
 /// Modes per rayon task of the recursion (each mode's result depends on that mode alone).
@@ -423,17 +509,7 @@ mod tests {
         };
         let portable = run(Isa::Portable);
         assert!(portable.iter().any(|&b| f64::from_bits(b) != 0.0));
-        let mut builds = vec![];
-        #[cfg(target_arch = "x86_64")]
-        {
-            if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
-                builds.push(Isa::Avx2);
-            }
-            if std::arch::is_x86_feature_detected!("avx512f") {
-                builds.push(Isa::Avx512);
-            }
-        }
-        for isa in builds {
+        for isa in Isa::every_one_here().into_iter().skip(1) {
             assert!(run(isa) == portable, "{isa:?} differs from the portable build");
         }
     }
