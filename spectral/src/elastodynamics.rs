@@ -796,6 +796,31 @@ mod tests {
         u
     }
 
+    /// The work per step counts no spectra and no sums for the modes 0 < j < N/2 where the
+    /// AVX-512 pass keeps them in registers: 64 B of spectra written by the split and read by the
+    /// recursion and the assembly, 128 B of sums written and read, a mode.
+    #[test]
+    fn the_work_of_the_avx512_pass_leaves_out_what_stays_in_registers() {
+        let n = 1024;
+        let work = |isa: Isa| {
+            let mut h = fast_operator(n);
+            let Path::Fast(fast) = &mut h.path else {
+                panic!("the fast path")
+            };
+            fast.set_isa(isa);
+            h.work().of(Phase::Convolution)
+        };
+        let apart = work(Isa::Portable);
+        if !Isa::every_one_here().contains(&Isa::Avx512) {
+            return; // nothing else to hold it to on this CPU
+        }
+        let fused = work(Isa::Avx512);
+        let kept = (n / 2 - 1) as f64;
+        assert_eq!(apart.read - fused.read, kept * (2.0 * 64.0 + 128.0));
+        assert_eq!(apart.written - fused.written, kept * (64.0 + 128.0));
+        assert_eq!(apart.flops, fused.flops);
+    }
+
     /// The fast path's one pass over the modes gives f^n of the separate passes bit for bit, over
     /// steps (so through the recursion's states), on a grid whose modes 1..N/2 fill several
     /// tasks with a shorter last one (N = 1 024) and on one whose modes 1..N/2 − 1 fill their
