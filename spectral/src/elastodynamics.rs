@@ -492,7 +492,8 @@ struct Spectra<'a> {
 /// is computed by the operations of the separate passes ([`split_all`], `FastConvolution::step`,
 /// [`HalfSpaces::assemble`]) in their order, so the bits are theirs; one parallel pass instead
 /// of three saves two hand-outs of tasks a step, and each task's spectra and sums stay in its
-/// core's cache.
+/// core's cache. Where the CPU has AVX-512 ([`Block::fused`](crate::fast::Block::fused)), a task
+/// does the three mode by mode in one loop and its spectra and sums stay in registers.
 fn split_recursion_assembly(
     fast: &mut FastConvolution,
     m: Spectra<'_>,

@@ -121,6 +121,15 @@ impl Isa {
         builds
     }
 
+    /// Whether this build splits, recurses and assembles a mode in one loop ([`Block::fused`]).
+    fn fuses_modes(self) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if self == Isa::Avx512 {
+            return true;
+        }
+        false
+    }
+
     /// The widest the CPU reports.
     fn detect() -> Isa {
         #[cfg(target_arch = "x86_64")]
@@ -236,11 +245,7 @@ impl FastConvolution {
     /// Whether [`Block::fused`] gives its blocks to the one-loop pass (AVX-512F), in which each
     /// mode's spectra and sums stay in registers.
     pub(crate) fn fuses_modes(&self) -> bool {
-        #[cfg(target_arch = "x86_64")]
-        if self.isa == Isa::Avx512 {
-            return true;
-        }
-        false
+        self.isa.fuses_modes()
     }
 
     /// Runs the recursion on `isa`'s build, one this CPU has ([`Isa::every_one_here`]).
@@ -355,10 +360,10 @@ impl<'a> Block<'a> {
     /// the block back, for the split, [`step`](Block::step) and the assembly as passes of their
     /// own.
     pub(crate) fn fused(self) -> Result<FusedBlock<'a>, Block<'a>> {
-        match self.isa {
-            #[cfg(target_arch = "x86_64")]
-            Isa::Avx512 => Ok(FusedBlock(self)),
-            _ => Err(self),
+        if self.isa.fuses_modes() {
+            Ok(FusedBlock(self))
+        } else {
+            Err(self)
         }
     }
 }
