@@ -10,6 +10,7 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use fem::gmsh::{BulkElement, ElementKind, UnstructuredMesh};
 use fem::model::unstructured::{BulkMaterial, UnstructuredBulk};
 use fem::nalgebra::Vector2;
+use preflight::testing::time_on_pool;
 
 /// A smooth, non-trivial displacement field of n nodes [m].
 fn displacements(n: usize) -> Vec<Vector2<f64>> {
@@ -28,7 +29,9 @@ fn bench_scene(c: &mut Criterion, name: &str, scene: &str) {
     let mut f = vec![Vector2::zeros(); n];
     let mut g = c.benchmark_group("bulk_forces");
     g.throughput(Throughput::Elements(model.num_elements() as u64));
-    g.bench_function(name, |b| b.iter(|| fem::probe::bulk_forces(&model, &u, &mut f)));
+    g.bench_function(name, |b| {
+        b.iter_custom(|iters| time_on_pool(iters, || fem::probe::bulk_forces(&model, &u, &mut f)))
+    });
     g.finish();
 }
 
@@ -98,7 +101,9 @@ fn bench_unstructured(c: &mut Criterion, name: &str, triangles: bool, two_materi
     let mut f = vec![Vector2::zeros(); n];
     let mut g = c.benchmark_group("bulk_forces");
     g.throughput(Throughput::Elements(mesh.elements.len() as u64));
-    g.bench_function(name, |b| b.iter(|| bulk.internal_forces(&u, &mut f)));
+    g.bench_function(name, |b| {
+        b.iter_custom(|iters| time_on_pool(iters, || bulk.internal_forces(&u, &mut f)))
+    });
     g.finish();
 }
 

@@ -15,6 +15,7 @@
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use nalgebra::Vector2;
+use preflight::testing::time_on_pool;
 use std::hint::black_box;
 
 #[path = "../src/contact/mod.rs"]
@@ -98,22 +99,24 @@ fn bench_faces(
     let mut sign = 1.0;
     group.throughput(Throughput::Elements(slaves));
     group.bench_function(name, |b| {
-        b.iter(|| {
-            sign = -sign;
-            for p in &mut x[upper..] {
-                p.x += sign * 1e-6;
-            }
-            let summary = resolve(
-                &params,
-                &mut surface,
-                &x,
-                &twins,
-                &[],
-                &mut state,
-                &mut ws,
-                &mut f,
-            );
-            black_box(summary.contacts)
+        b.iter_custom(|iters| {
+            time_on_pool(iters, || {
+                sign = -sign;
+                for p in &mut x[upper..] {
+                    p.x += sign * 1e-6;
+                }
+                let summary = resolve(
+                    &params,
+                    &mut surface,
+                    &x,
+                    &twins,
+                    &[],
+                    &mut state,
+                    &mut ws,
+                    &mut f,
+                );
+                summary.contacts
+            })
         })
     });
 }

@@ -13,6 +13,7 @@
 //! sampled.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use preflight::testing::time_on_pool;
 
 fn scene_path(file: &str) -> String {
     format!("{}/../scenes/{file}", env!("CARGO_MANIFEST_DIR"))
@@ -32,7 +33,11 @@ fn bench_built(c: &mut Criterion, name: &str, scene: &fem::Scene) {
     let mut g = c.benchmark_group("step");
     g.throughput(Throughput::Elements(model.num_elements() as u64));
     g.bench_function(name, |b| {
-        b.iter(|| fem::solver::central_difference::step(&model, &mut state, &mut ws, false).unwrap())
+        b.iter_custom(|iters| {
+            time_on_pool(iters, || {
+                fem::solver::central_difference::step(&model, &mut state, &mut ws, false).unwrap()
+            })
+        })
     });
     g.finish();
 }

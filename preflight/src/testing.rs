@@ -1,11 +1,30 @@
-//! Helpers of the command-line tests (feature `testing`, for dev-dependencies only): a scratch
-//! folder with the scene written into it, and the check that a command refused its input before
-//! any time step — non-zero exit, nothing on stdout (every command prints its plan only once its
-//! checks have passed), no output folder.
+//! Helpers of the command-line tests and the benchmarks (feature `testing`, for dev-dependencies
+//! only): a scratch folder with the scene written into it, the check that a command refused its
+//! input before any time step — non-zero exit, nothing on stdout (every command prints its plan
+//! only once its checks have passed), no output folder — and a clock for benchmarks that runs
+//! the models' parallel code where their runs do, on a thread of rayon's pool
+//! ([`time_on_pool`]).
 
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+/// The time `iters` calls of `routine` take on a thread of rayon's global pool, for criterion's
+/// `iter_custom`. Both models run their time steps inside `rayon::scope`, so that each parallel
+/// loop of a step splits its work through the worker's own queue; called from any other thread
+/// (criterion's), every such loop would instead be handed to the pool while the caller sleeps
+/// until it ends, a cost the runs never pay. The results are black-boxed, as criterion's
+/// `iter` does.
+pub fn time_on_pool<R>(iters: u64, mut routine: impl FnMut() -> R + Send) -> Duration {
+    rayon::scope(|_| {
+        let start = Instant::now();
+        for _ in 0..iters {
+            std::hint::black_box(routine());
+        }
+        start.elapsed()
+    })
+}
 
 /// The text of `scenes/<name>.toml` of the workspace whose member lives at `manifest_dir`.
 pub fn scene_text(manifest_dir: &str, name: &str) -> String {
@@ -83,4 +102,19 @@ pub fn signalled(child: Child, signals: &[libc::c_int]) -> Output {
         assert_eq!(unsafe { libc::kill(pid, signal) }, 0);
     }
     child.wait_with_output().unwrap()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::time_on_pool;
+
+    #[test]
+    fn time_on_pool_runs_the_routine_iters_times_on_a_pool_thread() {
+        let (mut calls, mut off_pool) = (0, 0);
+        time_on_pool(5, || {
+            calls += 1;
+            off_pool += usize::from(rayon::current_thread_index().is_none());
+        });
+        assert_eq!((calls, off_pool), (5, 0));
+    }
 }

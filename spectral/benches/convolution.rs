@@ -4,6 +4,7 @@
 //! the direct path; modes for the fast path.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use preflight::testing::time_on_pool;
 use spectral::{Convolution, FaceFields, HalfSpaceParams, HalfSpaces};
 
 fn params(convolution: Convolution) -> HalfSpaceParams {
@@ -45,7 +46,9 @@ fn bench(c: &mut Criterion) {
             .enumerate()
             .for_each(|(m, x)| *x = (m as f64 * 0.01).sin() * 1e-6);
         let mut f = FaceFields::zeros(4096);
-        g.bench_function(format!("{conv:?}"), |b| b.iter(|| hs.step(&u, &mut f)));
+        g.bench_function(format!("{conv:?}"), |b| {
+            b.iter_custom(|iters| time_on_pool(iters, || hs.step(&u, &mut f)))
+        });
     }
     g.finish();
 }
