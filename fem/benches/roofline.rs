@@ -8,12 +8,13 @@
 //! - `triad`: a[i] = b[i] + s c[i] (the STREAM triad, 3 × 8 B per element moved, reported in
 //!   bytes) on 24 MiB, the size of a paper-resolution step's working set (u, v, f, m and the
 //!   mesh's small tables, which a large last-level cache can hold), and on 1 GiB (main memory);
-//!   on one thread and on all of the pool's threads.
+//!   on one thread and on all of the pool's threads, timed on a pool thread as the kernels are.
 //!
 //! The step needs about 95 flops and moves about 136 B per element (docs/performance.md gives the
 //! count), 0.7 flop/B: far below any machine's balance, so its bound is the bandwidth.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use preflight::testing::time_on_pool;
 use rayon::prelude::*;
 use std::hint::black_box;
 
@@ -176,7 +177,9 @@ fn bench_triad(c: &mut Criterion) {
         g.throughput(Throughput::Bytes((24 * n) as u64));
         for (label, threads) in [("one_thread", false), ("all_threads", true)] {
             g.bench_function(format!("triad_{name}_{label}"), |bch| {
-                bch.iter(|| triad(&mut a, &b, &cc, black_box(3.0), threads))
+                bch.iter_custom(|iters| {
+                    time_on_pool(iters, || triad(&mut a, &b, &cc, black_box(3.0), threads))
+                })
             });
         }
     }
