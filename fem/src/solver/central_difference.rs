@@ -601,6 +601,17 @@ mod tests {
         assert!(swept > 0, "the grid's sweep must run");
     }
 
+    /// The same where the sides are free: there the sweep leaves each layer's two edge nodes to
+    /// the corrector, whose results, unlike on a prescribed side, are the step's own (a pulled
+    /// cohesive strip whose crack opens through insertions). The scenes of the grid's and the
+    /// mapped mesh's tests prescribe every side node, so there a corrector that skipped one layer's
+    /// edge nodes went unseen; this test fails for it.
+    #[test]
+    fn free_edge_nodes_fused_give_the_bits_of_the_separate_passes() {
+        let swept = fused_and_separate_passes_agree("tiny-fem-cohesive-pull", 1400);
+        assert!(swept > 0, "the grid's sweep must run");
+    }
+
     /// The same on a mapped mesh (vertical-sided elements whose forces are computed on the fly),
     /// whose one-pass sweep computes each element row once for its two layers and must sum the
     /// terms in the order of the separate force pass.
