@@ -1,10 +1,15 @@
-//! The machine's two ceilings for the FE step (its roofline), measured here:
+//! The machine's ceilings for the FE step (its roofline), measured here:
 //! - `fma_peak`: fused multiply-adds per second on one core, from 16 independent 8-wide chains
 //!   (AVX-512 when the CPU has it, else AVX2; the portable build otherwise). Throughput is
 //!   reported in FMA lanes (elements): flops = 2 × elements.
+//! - `fma_peak_all_cores`: the same chains on every thread of the pool at once, counted over all
+//!   of them: divided by its rate on one thread (`RAYON_NUM_THREADS=1`), the number of cores whose
+//!   arithmetic the machine gives.
 //! - `div_peak`: divisions per second on one core, from 16 independent 8-wide chains x ← x / a
 //!   (AVX-512, AVX2 or the portable build, as for `fma_peak`), reported in division lanes: the
 //!   ceiling of the node update, whose a = f/m takes two divisions a node.
+//! - `core_to_core_round_trip`: one round trip of a cache line between two threads, which every
+//!   hand-over of data from one core to the other pays.
 //! - `triad`: a[i] = b[i] + s c[i] (the STREAM triad, 3 × 8 B per element moved, reported in
 //!   bytes) on 24 MiB, the size of a paper-resolution step's working set (u, v, f, m and the
 //!   mesh's small tables, which a large last-level cache can hold), and on 1 GiB (main memory);
@@ -17,6 +22,8 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use preflight::testing::time_on_pool;
 use rayon::prelude::*;
 use std::hint::black_box;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::time::{Duration, Instant};
 
 const CHAINS: usize = 16;
 const ROUNDS: usize = 4096;
@@ -151,6 +158,26 @@ fn bench_fma(c: &mut Criterion) {
         bch.iter(|| div(black_box(1.000_000_1)))
     });
     g.finish();
+    // The same chains on every thread of the pool at once, counted over all of them: against the
+    // rate of one thread (this benchmark with `RAYON_NUM_THREADS=1`), how many cores' arithmetic
+    // the machine gives (docs/performance.md, "Two threads on cores that share no cache, at
+    // times").
+    // Each thread runs the chains `SPELLS` times a call, so that waking the threads is a small
+    // part of the call.
+    const SPELLS: usize = 16;
+    let threads = rayon::current_num_threads();
+    let mut g = c.benchmark_group("roofline");
+    g.throughput(Throughput::Elements((fma_lanes() * SPELLS * threads) as u64));
+    g.bench_function("fma_peak_all_cores", |bch| {
+        bch.iter(|| {
+            rayon::broadcast(|_| {
+                (0..SPELLS)
+                    .map(|_| fma(black_box(0.999_999), black_box(1e-9)))
+                    .sum::<f64>()
+            })
+        })
+    });
+    g.finish();
 }
 
 fn triad(a: &mut [f64], b: &[f64], c: &[f64], s: f64, threads: bool) {
@@ -186,5 +213,50 @@ fn bench_triad(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench_fma, bench_triad);
+/// `trips` round trips of one cache line between two threads, timed from the moment both run: each
+/// waits until the other has written the next value of a shared counter, then writes the one after.
+fn round_trips(trips: u64) -> Duration {
+    let (line, ready) = (AtomicU64::new(0), AtomicBool::new(false));
+    let wait_for = |value: u64| {
+        while line.load(Ordering::Acquire) != value {
+            std::hint::spin_loop();
+        }
+    };
+    std::thread::scope(|s| {
+        s.spawn(|| {
+            ready.store(true, Ordering::Release);
+            for i in 0..trips {
+                wait_for(2 * i + 1);
+                line.store(2 * i + 2, Ordering::Release);
+            }
+        });
+        while !ready.load(Ordering::Acquire) {
+            std::hint::spin_loop();
+        }
+        let start = Instant::now();
+        for i in 0..trips {
+            wait_for(2 * i);
+            line.store(2 * i + 1, Ordering::Release);
+        }
+        wait_for(2 * trips);
+        start.elapsed()
+    })
+}
+
+/// One round trip of a cache line between two threads: tens of nanoseconds between cores that
+/// share a last-level cache, a few hundred between cores that do not (on a virtual machine the
+/// host may move its virtual CPUs between such placements while it runs: docs/performance.md,
+/// "Two threads on cores that share no cache, at times").
+fn bench_core_to_core(c: &mut Criterion) {
+    if std::thread::available_parallelism().map_or(1, |n| n.get()) < 2 {
+        // two spinning threads on one CPU would pass the line once a time slice
+        println!("roofline/core_to_core_round_trip: not measured (one CPU)");
+        return;
+    }
+    let mut g = c.benchmark_group("roofline");
+    g.bench_function("core_to_core_round_trip", |bch| bch.iter_custom(round_trips));
+    g.finish();
+}
+
+criterion_group!(benches, bench_fma, bench_triad, bench_core_to_core);
 criterion_main!(benches);
