@@ -91,7 +91,7 @@ fn bench_faces(
         prakash_ratio: None,
     };
     let twins = vec![u32::MAX; n];
-    let mut state = ContactState::new(n);
+    let mut state = ContactState::new(n, surface.num_segments());
     let mut ws = ContactWorkspace::new(n, surface.num_segments());
     let mut f = vec![Vector2::zeros(); n];
     let slaves = surface.nodes().len() as u64;

@@ -104,66 +104,64 @@ impl DetectionSurface {
     }
 }
 
-/// Per-node results of the last `resolve` plus friction history (struct of arrays indexed by node id;
-/// entries of nodes outside N_det stay zero/false).
-#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
-pub(crate) struct ContactState {
+/// One node's contact results of the last `resolve` and its friction history (all zero, false
+/// and `None` for a node outside N_det).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub(crate) struct NodeContact {
     /// Slave had a contact element this step (used for damping, docs/fem-model.md §6).
-    pub in_contact: Vec<bool>,
+    pub in_contact: bool,
     /// Penetration p = −g ≥ 0 [m].
-    pub penetration: Vec<f64>,
+    pub penetration: f64,
     /// Normal pressure p_N = ε_n p ≥ 0 [Pa].
-    pub normal_pressure: Vec<f64>,
+    pub normal_pressure: f64,
     /// Regularised pressure σ̃ ≥ 0 [Pa] of the Coulomb strength μ σ̃ (paper eq. 14): follows p_N
     /// over t* while the slave touches with friction, relaxes towards 0 otherwise (p_N with t* = 0).
-    pub regularized_pressure: Vec<f64>,
+    pub regularized_pressure: f64,
     /// Whether the slave has ever had a contact element (its σ̃ starts at its first pressure).
-    touched: Vec<bool>,
+    touched: bool,
     /// Signed tangential traction T along the master tangent t_e [Pa].
-    pub tangential_traction: Vec<f64>,
+    pub tangential_traction: f64,
     /// Slip (true) or stick (false) this step.
-    pub slipping: Vec<bool>,
+    pub slipping: bool,
     /// Nodal area A_i [m] (per unit thickness).
-    pub area: Vec<f64>,
+    pub area: f64,
     /// Work done against the friction traction since t = 0, Σ −w A T Δs over every step in
     /// contact: the energy friction takes out of the relative sliding at this slave [J/m]. An
     /// audit quantity, summed from the kinematic slip, not from the return map's plastic slip.
-    pub friction_work: Vec<f64>,
+    pub friction_work: f64,
     /// The Coulomb bound of that work, Σ w A μ σ̃ |Δs| over the slipping steps [J/m] (σ̃ = p_N
     /// with t* = 0).
-    pub coulomb_work: Vec<f64>,
+    pub coulomb_work: f64,
     /// Friction history of the last step's contact element (None: no contact, history reset).
-    history: Vec<Option<SlaveHistory>>,
+    history: Option<SlaveHistory>,
 }
 
-impl ContactState {
-    /// All-zero state for a mesh of `num_nodes` nodes.
-    pub fn new(num_nodes: usize) -> Self {
-        Self {
-            in_contact: vec![false; num_nodes],
-            penetration: vec![0.0; num_nodes],
-            normal_pressure: vec![0.0; num_nodes],
-            regularized_pressure: vec![0.0; num_nodes],
-            touched: vec![false; num_nodes],
-            tangential_traction: vec![0.0; num_nodes],
-            slipping: vec![false; num_nodes],
-            area: vec![0.0; num_nodes],
-            friction_work: vec![0.0; num_nodes],
-            coulomb_work: vec![0.0; num_nodes],
-            history: vec![None; num_nodes],
-        }
-    }
+/// The state of a node outside N_det.
+static OUTSIDE: NodeContact = NodeContact {
+    in_contact: false,
+    penetration: 0.0,
+    normal_pressure: 0.0,
+    regularized_pressure: 0.0,
+    touched: false,
+    tangential_traction: 0.0,
+    slipping: false,
+    area: 0.0,
+    friction_work: 0.0,
+    coulomb_work: 0.0,
+    history: None,
+};
 
-    /// Stores node i's contact element of this step: results and next step's friction history.
-    fn record(&mut self, i: usize, segment: [u32; 2], proj: &Projection, r: &ContactResponse) {
-        self.in_contact[i] = true;
-        self.touched[i] = true;
-        self.penetration[i] = -proj.gap;
-        self.normal_pressure[i] = r.normal_pressure;
-        self.regularized_pressure[i] = r.friction_pressure;
-        self.tangential_traction[i] = r.friction.traction;
-        self.slipping[i] = r.friction.slipping;
-        self.history[i] = Some(SlaveHistory {
+impl NodeContact {
+    /// Stores this step's contact element: results and next step's friction history.
+    fn record(&mut self, segment: [u32; 2], proj: &Projection, r: &ContactResponse) {
+        self.in_contact = true;
+        self.touched = true;
+        self.penetration = -proj.gap;
+        self.normal_pressure = r.normal_pressure;
+        self.regularized_pressure = r.friction_pressure;
+        self.tangential_traction = r.friction.traction;
+        self.slipping = r.friction.slipping;
+        self.history = Some(SlaveHistory {
             segment,
             xi: proj.xi,
             tangent: proj.frame.tangent,
@@ -171,33 +169,70 @@ impl ContactState {
         });
     }
 
-    /// Asks the cache for node i's entries of every array ([`prefetch`]).
-    #[inline(always)]
-    fn prefetch(&self, i: usize) {
-        prefetch(&self.in_contact, i);
-        prefetch(&self.penetration, i);
-        prefetch(&self.normal_pressure, i);
-        prefetch(&self.regularized_pressure, i);
-        prefetch(&self.touched, i);
-        prefetch(&self.tangential_traction, i);
-        prefetch(&self.slipping, i);
-        prefetch(&self.area, i);
-        prefetch(&self.friction_work, i);
-        prefetch(&self.coulomb_work, i);
-        prefetch(&self.history, i);
+    /// Clears the results and friction history (no contact element this step); σ̃ relaxes
+    /// towards 0 with ratio r = Δt/t* (eq. 14 with σ = 0; `None`: it is 0 at once).
+    fn clear(&mut self, prakash_ratio: Option<f64>) {
+        self.in_contact = false;
+        self.penetration = 0.0;
+        self.normal_pressure = 0.0;
+        self.regularized_pressure =
+            crate::law::friction::regularized_normal(self.regularized_pressure, 0.0, prakash_ratio);
+        self.tangential_traction = 0.0;
+        self.slipping = false;
+        self.history = None;
+    }
+}
+
+/// Every node's contact results of the last `resolve` and friction history, stored per node of
+/// N_det in the order of [`DetectionSurface::nodes`] (a node keeps its place: N_det only grows),
+/// so that each slave's task in `resolve` owns its entry; [`ContactState::at`] reads them by node
+/// id.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub(crate) struct ContactState {
+    /// Per node of the mesh, its place in `nodes`, or `u32::MAX` outside N_det (or before the
+    /// first `resolve` that meets it).
+    place: Vec<u32>,
+    /// The nodes of N_det `resolve` has met, in its order: the first `nodes.len()` of
+    /// [`DetectionSurface::nodes`].
+    nodes: Vec<NodeContact>,
+}
+
+impl ContactState {
+    /// An empty state for a mesh of `num_nodes` nodes whose Γ_det holds at most `max_segments`
+    /// segments (the room `resolve` needs, so that it never allocates).
+    pub fn new(num_nodes: usize, max_segments: usize) -> Self {
+        Self {
+            place: vec![u32::MAX; num_nodes],
+            nodes: Vec::with_capacity(num_nodes.min(2 * max_segments)),
+        }
     }
 
-    /// Clears node i's results and friction history (no contact element this step); its σ̃
-    /// relaxes towards 0 with ratio r = Δt/t* (eq. 14 with σ = 0; `None`: it is 0 at once).
-    fn clear(&mut self, i: usize, prakash_ratio: Option<f64>) {
-        self.in_contact[i] = false;
-        self.penetration[i] = 0.0;
-        self.normal_pressure[i] = 0.0;
-        self.regularized_pressure[i] =
-            crate::law::friction::regularized_normal(self.regularized_pressure[i], 0.0, prakash_ratio);
-        self.tangential_traction[i] = 0.0;
-        self.slipping[i] = false;
-        self.history[i] = None;
+    /// Node n's contact state (all zero for a node outside N_det).
+    pub fn at(&self, n: usize) -> &NodeContact {
+        match self.place.get(n) {
+            Some(&k) if k != u32::MAX => &self.nodes[k as usize],
+            _ => &OUTSIDE,
+        }
+    }
+
+    /// Number of nodes of the mesh.
+    pub fn num_nodes(&self) -> usize {
+        self.place.len()
+    }
+
+    /// Gives the nodes of N_det that joined it since the last call (the tail of `nodes`) their
+    /// place, with an empty state.
+    fn admit(&mut self, nodes: &[u32]) {
+        for &n in &nodes[self.nodes.len().min(nodes.len())..] {
+            self.place[n as usize] = self.nodes.len() as u32;
+            self.nodes.push(OUTSIDE);
+        }
+    }
+
+    /// Room for nodes of N_det (for the no-allocation tests).
+    #[cfg(test)]
+    pub fn capacity(&self) -> usize {
+        self.nodes.capacity()
     }
 }
 
@@ -296,19 +331,23 @@ pub(crate) fn resolve(
         max_gap: p.max_gap,
         projection_tolerance: p.projection_tolerance,
     };
-    // Detection and the contact law per slave node are independent: in parallel, into one slot
-    // per node. Forces, state and sums follow serially in node order, so the result does not
-    // depend on the number of threads. Chunks of at least 1024 nodes: on the paper's centre crack
-    // (about 1000 nodes in Γ_det) splitting cost more than it saved (126 against 116 µs per step
-    // on 2 threads), so short interfaces run in one piece and long ones in parallel.
+    // Detection and the contact law per slave node are independent: in parallel, each slave's
+    // task writing its own node's state (stored in the order of N_det, which lists each node
+    // once) and handing on what the shared sums need. Forces and sums follow serially in node
+    // order, so the result does not depend on the number of threads. Chunks of at least 1024
+    // nodes: on the paper's centre crack (about 1000 nodes in Γ_det) splitting cost more than it
+    // saved (126 against 116 µs per step on 2 threads), so short interfaces run in one piece and
+    // long ones in parallel.
     let frictionless_law = |i: usize| frictionless.get(i).copied().unwrap_or(false);
     let (grid, frames, area_sum, normal) = (&ws.grid, &ws.frames, &ws.area_sum, &ws.normal);
-    let (history, regularized, touched) = (&state.history, &state.regularized_pressure, &state.touched);
-    nodes
-        .par_iter()
+    state.admit(nodes);
+    state
+        .nodes
+        .par_iter_mut()
+        .zip(nodes.par_iter())
         .enumerate()
         .with_min_len(1024)
-        .map(|(k, &node)| {
+        .map(|(k, (own, &node))| {
             let i = node as usize;
             let slave = Slave {
                 node,
@@ -324,73 +363,87 @@ pub(crate) fn resolve(
                 let cell = grid.candidates(x[i]);
                 (found, lost) = closest_master_or_depth(&slave, cell, segments, frames, x, &limits);
             }
-            found.map_or(Detected::Lost(lost), |(e, proj)| {
-                let segment = segments[e as usize];
-                let law = if frictionless_law(i) { &no_friction } else { &law };
-                let area = area_sum[i].norm();
-                let r = respond(
-                    p.eps_n,
-                    law,
-                    area,
-                    (segment, &proj),
-                    (history[i].as_ref(), touched[i].then_some(regularized[i])),
-                    x,
-                );
-                Detected::Hit { segment, proj, r }
-            })
+            let area = area_sum[i].norm();
+            own.area = area;
+            let Some((e, proj)) = found else {
+                own.clear(p.prakash_ratio);
+                return Detected::Lost(lost);
+            };
+            let segment = segments[e as usize];
+            let law = if frictionless_law(i) { &no_friction } else { &law };
+            let r = respond(
+                p.eps_n,
+                law,
+                area,
+                (segment, &proj),
+                (
+                    own.history.as_ref(),
+                    own.touched.then_some(own.regularized_pressure),
+                ),
+                x,
+            );
+            own.record(segment, &proj, &r);
+            let w_area = forces::AVERAGING_WEIGHT * area;
+            own.friction_work -= w_area * r.friction.traction * r.slip;
+            if r.friction.slipping && law.friction_coeff > 0.0 {
+                own.coulomb_work += w_area * law.friction_coeff * r.friction_pressure * r.slip.abs();
+            }
+            Detected::Hit {
+                segment,
+                xi_clamped: proj.xi_clamped,
+                force: r.force,
+                depth: -proj.gap,
+                dissipation: w_area * law.friction_coeff * r.friction_pressure * r.friction.plastic_slip,
+            }
         })
         .collect_into_vec(&mut ws.detected);
     let mut summary = ContactSummary::default();
     for (k, (&node, detected)) in nodes.iter().zip(&ws.detected).enumerate() {
         if let Some(&ahead) = nodes.get(k + AHEAD) {
-            state.prefetch(ahead as usize);
             prefetch(f, ahead as usize);
         }
-        let i = node as usize;
-        let area = ws.area_sum[i].norm();
-        state.area[i] = area;
-        // each slave's result read in place, not copied whole
-        let (segment, proj, r) = match detected {
-            Detected::Lost(lost) => {
-                summary.dropped += usize::from(*lost);
-                state.clear(i, p.prakash_ratio);
-                continue;
+        match *detected {
+            Detected::Lost(lost) => summary.dropped += usize::from(lost),
+            Detected::Hit {
+                segment,
+                xi_clamped,
+                force,
+                depth,
+                dissipation,
+            } => {
+                scatter(f, node, segment, xi_clamped, force);
+                summary.contacts += 1;
+                summary.max_penetration = summary.max_penetration.max(depth);
+                summary.friction_dissipation += dissipation;
             }
-            Detected::Hit { segment, proj, r } => (*segment, proj, r),
-        };
-        let law = if frictionless_law(i) { &no_friction } else { &law };
-        scatter(f, node, segment, proj.xi_clamped, r.force);
-        state.record(i, segment, proj, r);
-        summary.contacts += 1;
-        summary.max_penetration = summary.max_penetration.max(-proj.gap);
-        let w_area = forces::AVERAGING_WEIGHT * area;
-        summary.friction_dissipation +=
-            w_area * law.friction_coeff * r.friction_pressure * r.friction.plastic_slip;
-        state.friction_work[i] -= w_area * r.friction.traction * r.slip;
-        if r.friction.slipping && law.friction_coeff > 0.0 {
-            state.coulomb_work[i] += w_area * law.friction_coeff * r.friction_pressure * r.slip.abs();
         }
     }
     summary
 }
 
-/// Slaves ahead whose entries the serial pass of [`resolve`] asks the cache for. The per-node
-/// arrays are indexed by node id and nothing else in the step reads most of them: without the
-/// hint, the pass met them out of the core's caches, one miss after another
-/// (docs/performance.md, "Contact at scale").
+/// Slaves ahead whose force entries the serial pass of [`resolve`] asks the cache for: a slave's
+/// masters lie anywhere in the node arrays ([`prefetch`]).
 const AHEAD: usize = 8;
 
-/// What detection and the contact law found for one slave node.
+/// What detection and the contact law found for one slave node, as far as the serial pass needs
+/// it (the slave's own state is already written).
 #[derive(Debug, Clone, Copy)]
 enum Detected {
     /// No master segment; `true` if the node was lost because it lies deeper than the detection
     /// distance.
     Lost(bool),
-    /// The closest master segment, the projection on it and the contact law's response.
+    /// A contact element.
     Hit {
+        /// The master segment (j1, j2).
         segment: [u32; 2],
-        proj: Projection,
-        r: ContactResponse,
+        /// ξ_c, the projection's natural coordinate clamped to the segment [-].
+        xi_clamped: f64,
+        /// The force on the slave before averaging, F [N/m].
+        force: Vector2<f64>,
+        /// The penetration −g [m].
+        depth: f64,
+        /// The slave's friction dissipation this step, w A_i μ σ̃ Δs_p [J/m].
+        dissipation: f64,
     },
 }
 

@@ -68,7 +68,7 @@ pub(super) struct Pass {
 pub(super) fn new_pass(c: &Faces) -> Pass {
     let n = c.x.len();
     Pass {
-        state: ContactState::new(n),
+        state: ContactState::new(n, c.surface.num_segments()),
         ws: ContactWorkspace::new(n, c.surface.num_segments()),
         f: vec![Vector2::zeros(); n],
         summary: ContactSummary::default(),
@@ -107,7 +107,7 @@ fn node_matched_faces_pressed_give_eps_n_p_area_per_node() {
         .map(|i| (i, -1.0))
         .chain(c.upper.iter().map(|i| (i, 1.0)))
     {
-        let a = pass.state.area[i as usize];
+        let a = pass.state.at(i as usize).area;
         let expected = sign * EPS * delta * a; // upper nodes pushed up (+y), lower down
         let fy = pass.f[i as usize].y;
         assert!(
@@ -115,10 +115,10 @@ fn node_matched_faces_pressed_give_eps_n_p_area_per_node() {
             "node {i}: {fy} vs {expected}"
         );
         assert!(pass.f[i as usize].x.abs() <= 1e-12 * expected.abs());
-        assert!((pass.state.penetration[i as usize] - delta).abs() < 1e-15);
+        assert!((pass.state.at(i as usize).penetration - delta).abs() < 1e-15);
     }
-    assert_eq!(pass.state.area[c.upper[0] as usize], 0.5 * H);
-    assert!((pass.state.area[c.upper[2] as usize] - H).abs() < 1e-18);
+    assert_eq!(pass.state.at(c.upper[0] as usize).area, 0.5 * H);
+    assert!((pass.state.at(c.upper[2] as usize).area - H).abs() < 1e-18);
     assert_eq!(pass.summary.contacts, 10);
 }
 
@@ -169,8 +169,8 @@ fn tied_twins_never_pair() {
     twins[up as usize] = lo;
     let mut pass = new_pass(&c);
     run(&mut c, &mut pass, &params(0.0), &twins);
-    assert!(!pass.state.in_contact[up as usize] && !pass.state.in_contact[lo as usize]);
-    assert!(pass.state.in_contact[c.upper[1] as usize] && pass.state.in_contact[c.lower[3] as usize]);
+    assert!(!pass.state.at(up as usize).in_contact && !pass.state.at(lo as usize).in_contact);
+    assert!(pass.state.at(c.upper[1] as usize).in_contact && pass.state.at(c.lower[3] as usize).in_contact);
 }
 
 #[test]
@@ -282,7 +282,7 @@ fn resolve_does_not_allocate_after_warm_up() {
             pass.ws.area_sum.capacity(),
             pass.ws.frames.capacity(),
             pass.ws.normal.capacity(),
-            pass.state.history.capacity(),
+            pass.state.capacity(),
             c.surface.segments.capacity(),
             c.surface.nodes.capacity(),
             pass.f.capacity(),
@@ -297,4 +297,38 @@ fn resolve_does_not_allocate_after_warm_up() {
     }
     assert_eq!(before, caps(&pass, &c));
     assert!(pass.summary.contacts > 50);
+}
+
+#[test]
+fn a_face_that_joins_later_gets_the_state_of_one_there_from_the_start() {
+    // Γ_det grows as facets are inserted: the nodes that join take the places after those already
+    // there, and every node's state must be its own, as if the surface had been whole throughout
+    let delta = 2.4e-6;
+    let mut whole = faces(4, H, 4, H, 0.37 * H, -delta);
+    let mut grown = faces(4, H, 4, H, 0.37 * H, -delta);
+    let segments = grown.surface.segments().to_vec();
+    grown.surface = DetectionSurface::with_capacity(grown.x.len(), segments.len());
+    let (first, later) = segments.split_at(4);
+    for s in first {
+        grown.surface.add_segment(s[0], s[1]);
+    }
+    let mut pass_whole = new_pass(&whole);
+    let mut pass_grown = new_pass(&grown);
+    let p = params(0.0);
+    run(&mut grown, &mut pass_grown, &p, &[]);
+    assert_eq!(
+        pass_grown.summary.contacts, 0,
+        "the lower face alone has no master"
+    );
+    for s in later {
+        grown.surface.add_segment(s[0], s[1]);
+    }
+    run(&mut grown, &mut pass_grown, &p, &[]);
+    run(&mut whole, &mut pass_whole, &p, &[]);
+    assert!(pass_whole.summary.contacts > 5);
+    assert_eq!(pass_grown.summary, pass_whole.summary);
+    for n in 0..whole.x.len() {
+        assert_eq!(pass_grown.state.at(n), pass_whole.state.at(n), "node {n}");
+        assert_eq!(pass_grown.f[n], pass_whole.f[n], "node {n}");
+    }
 }

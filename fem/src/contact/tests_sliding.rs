@@ -19,9 +19,9 @@ fn slide_across_junction(step: f64, passes: usize) -> Vec<(f64, f64, bool)> {
     for _ in 0..passes {
         run(&mut c, &mut pass, &p, &[]);
         out.push((
-            pass.state.tangential_traction[slave],
+            pass.state.at(slave).tangential_traction,
             pass.summary.friction_dissipation,
-            pass.state.slipping[slave],
+            pass.state.at(slave).slipping,
         ));
         for &i in &c.upper {
             c.x[i as usize].x += step;
@@ -129,9 +129,9 @@ fn friction_force_opposes_the_relative_motion() {
     // the lower face moves +x relative to it) both have T = −μ p_N.
     let limit = 0.3 * EPS * 2.4e-6;
     for &i in c.upper.iter().chain(&c.lower) {
-        if pass.state.in_contact[i as usize] {
-            assert!(pass.state.slipping[i as usize]);
-            let t = pass.state.tangential_traction[i as usize];
+        if pass.state.at(i as usize).in_contact {
+            assert!(pass.state.at(i as usize).slipping);
+            let t = pass.state.at(i as usize).tangential_traction;
             assert!((t + limit).abs() < 1e-9 * limit, "node {i}: T = {t}");
         }
     }
@@ -149,17 +149,17 @@ fn history_resets_when_a_node_leaves_contact() {
             c.x[k as usize].x += 1e-7;
         }
     }
-    assert!(pass.state.tangential_traction[i] > 0.0); // t_e = −e_x, slave moves +x
+    assert!(pass.state.at(i).tangential_traction > 0.0); // t_e = −e_x, slave moves +x
     for &k in &c.upper {
         c.x[k as usize].y = 1e-6; // separate
     }
     run(&mut c, &mut pass, &p, &[]);
-    assert!(!pass.state.in_contact[i] && pass.state.tangential_traction[i] == 0.0);
+    assert!(!pass.state.at(i).in_contact && pass.state.at(i).tangential_traction == 0.0);
     for &k in &c.upper {
         c.x[k as usize].y = -2.4e-6; // back in contact: first step has T = 0 again
     }
     run(&mut c, &mut pass, &p, &[]);
-    assert!(pass.state.in_contact[i] && pass.state.tangential_traction[i] == 0.0);
+    assert!(pass.state.at(i).in_contact && pass.state.at(i).tangential_traction == 0.0);
 }
 
 #[test]

@@ -42,11 +42,13 @@ fn contact_stored(model: &Model, state: &State) -> f64 {
     };
     let c = &cp.state;
     let w = crate::contact::AVERAGING_WEIGHT;
-    (0..c.in_contact.len())
-        .filter(|&i| c.in_contact[i])
-        .map(|i| {
-            let t = c.tangential_traction[i];
-            w * c.area[i] * (0.5 * p.eps_n * c.penetration[i].powi(2) + t * t / (2.0 * p.eps_t))
+    // in node order, whatever the order of N_det
+    (0..c.num_nodes())
+        .map(|i| c.at(i))
+        .filter(|n| n.in_contact)
+        .map(|n| {
+            let t = n.tangential_traction;
+            w * n.area * (0.5 * p.eps_n * n.penetration.powi(2) + t * t / (2.0 * p.eps_t))
         })
         .sum()
 }
@@ -57,13 +59,13 @@ pub(crate) fn friction_records(model: &Model, state: &State) -> Vec<crate::recor
         return Vec::new();
     };
     let c = &cp.state;
-    (0..c.friction_work.len())
-        .filter(|&i| c.friction_work[i] != 0.0 || c.coulomb_work[i] != 0.0)
+    (0..c.num_nodes())
+        .filter(|&i| c.at(i).friction_work != 0.0 || c.at(i).coulomb_work != 0.0)
         .map(|i| crate::records::FrictionRecord {
             x: model.bulk.x0[i].x,
             y: model.bulk.x0[i].y,
-            friction_work: c.friction_work[i],
-            coulomb_work: c.coulomb_work[i],
+            friction_work: c.at(i).friction_work,
+            coulomb_work: c.at(i).coulomb_work,
         })
         .collect()
 }

@@ -121,8 +121,9 @@ fn crack_piece(model: &Model, state: &State, row: &InterfaceRow) -> FieldPiece {
     if let Some(cp) = &state.contact {
         let cs = &cp.state;
         for (k, &n) in nodes.iter().enumerate() {
-            if cs.in_contact[n] {
-                (penetration[k], tangential[k]) = (cs.penetration[n], cs.tangential_traction[n].abs());
+            let c = cs.at(n);
+            if c.in_contact {
+                (penetration[k], tangential[k]) = (c.penetration, c.tangential_traction.abs());
             }
         }
     }

@@ -108,8 +108,8 @@ pub(crate) fn compressive(model: &Model, state: &State, row: &InterfaceRow, i: u
             let cs = &cp.state;
             let p = |n: u32| {
                 let n = n as usize;
-                if cs.in_contact[n] {
-                    cs.normal_pressure[n]
+                if cs.at(n).in_contact {
+                    cs.at(n).normal_pressure
                 } else {
                     0.0
                 }

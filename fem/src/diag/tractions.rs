@@ -34,12 +34,9 @@ pub(crate) fn face_records(model: &Model, state: &State, out: &mut Vec<FaceRecor
             continue;
         }
         let n = row.plus[i] as usize;
-        let (p, pn, tt) = if cs.in_contact[n] {
-            (
-                cs.penetration[n],
-                cs.normal_pressure[n],
-                cs.tangential_traction[n].abs(),
-            )
+        let c = cs.at(n);
+        let (p, pn, tt) = if c.in_contact {
+            (c.penetration, c.normal_pressure, c.tangential_traction.abs())
         } else {
             (0.0, 0.0, 0.0)
         };
@@ -56,10 +53,10 @@ pub(crate) fn face_records(model: &Model, state: &State, out: &mut Vec<FaceRecor
             tangential_traction: tt,
             chain: (row.num_chains() > 1).then_some(row.chain[i]),
         });
-        if cs.in_contact[n] {
-            area += cs.area[n];
-            sn += cs.area[n] * pn;
-            st += cs.area[n] * tt;
+        if c.in_contact {
+            area += c.area;
+            sn += c.area * pn;
+            st += c.area * tt;
             mean.max_penetration = mean.max_penetration.max(p);
         }
     }

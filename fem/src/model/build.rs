@@ -586,7 +586,7 @@ fn initial_state(model: &Model) -> State {
             }
             contact = Some(ContactPart {
                 surface,
-                state: ContactState::new(n),
+                state: ContactState::new(n, cap),
                 ws: ContactWorkspace::new(n, cap),
                 f_prev: vec![Vector2::zeros(); 2 * row.minus.len()],
                 max_penetration: 0.0,

@@ -453,7 +453,10 @@ impl State {
     pub fn contact_nodes(&self) -> (usize, usize) {
         self.contact.as_ref().map_or((0, 0), |c| {
             let nodes = c.surface.nodes();
-            let touching = nodes.iter().filter(|&&i| c.state.in_contact[i as usize]).count();
+            let touching = nodes
+                .iter()
+                .filter(|&&i| c.state.at(i as usize).in_contact)
+                .count();
             (nodes.len(), touching)
         })
     }

@@ -441,7 +441,7 @@ fn damping(model: &Model, state: &mut State) {
         return;
     }
     let c = model.damping.factor;
-    let in_contact = |n: usize| state.contact.as_ref().is_some_and(|cp| cp.state.in_contact[n]);
+    let in_contact = |n: usize| state.contact.as_ref().is_some_and(|cp| cp.state.at(n).in_contact);
     let mut removed = 0.0;
     let sets = |i: usize| {
         let inserted = state.facets.column_insert_time[i];
