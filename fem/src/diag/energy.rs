@@ -60,12 +60,13 @@ pub(crate) fn friction_records(model: &Model, state: &State) -> Vec<crate::recor
     };
     let c = &cp.state;
     (0..c.num_nodes())
-        .filter(|&i| c.at(i).friction_work != 0.0 || c.at(i).coulomb_work != 0.0)
-        .map(|i| crate::records::FrictionRecord {
+        .map(|i| (i, c.at(i)))
+        .filter(|(_, n)| n.friction_work != 0.0 || n.coulomb_work != 0.0)
+        .map(|(i, n)| crate::records::FrictionRecord {
             x: model.bulk.x0[i].x,
             y: model.bulk.x0[i].y,
-            friction_work: c.at(i).friction_work,
-            coulomb_work: c.at(i).coulomb_work,
+            friction_work: n.friction_work,
+            coulomb_work: n.coulomb_work,
         })
         .collect()
 }

@@ -107,12 +107,8 @@ pub(crate) fn compressive(model: &Model, state: &State, row: &InterfaceRow, i: u
         (ClosingTreatment::Hybrid, Some(cp)) => {
             let cs = &cp.state;
             let p = |n: u32| {
-                let n = n as usize;
-                if cs.at(n).in_contact {
-                    cs.at(n).normal_pressure
-                } else {
-                    0.0
-                }
+                let c = cs.at(n as usize);
+                if c.in_contact { c.normal_pressure } else { 0.0 }
             };
             (p(row.plus[i]), p(row.minus[i]))
         }
