@@ -157,17 +157,14 @@ fn bench_fma(c: &mut Criterion) {
     g.bench_function("div_peak_one_core", |bch| {
         bch.iter(|| div(black_box(1.000_000_1)))
     });
-    g.finish();
-    // The same chains on every thread of the pool at once, counted over all of them: against the
-    // rate of one thread (this benchmark with `RAYON_NUM_THREADS=1`), how many cores' arithmetic
-    // the machine gives (docs/performance.md, "Two threads on cores that share no cache, at
-    // times").
-    // Each thread runs the chains `SPELLS` times a call, so that waking the threads is a small
-    // part of the call.
+    // The same chains on every thread of the pool at once, `SPELLS` times a call (so that waking
+    // the threads is a small part of it), counted over all of them: against the rate of one
+    // thread (this benchmark with `RAYON_NUM_THREADS=1`), how many cores' arithmetic the machine
+    // gives (docs/performance.md, "Two threads on cores that share no cache, at times").
     const SPELLS: usize = 16;
-    let threads = rayon::current_num_threads();
-    let mut g = c.benchmark_group("roofline");
-    g.throughput(Throughput::Elements((fma_lanes() * SPELLS * threads) as u64));
+    g.throughput(Throughput::Elements(
+        (fma_lanes() * SPELLS * rayon::current_num_threads()) as u64,
+    ));
     g.bench_function("fma_peak_all_cores", |bch| {
         bch.iter(|| {
             rayon::broadcast(|_| {
