@@ -1,6 +1,8 @@
 //! Bulk internal-force kernels, reported per element-step (Throughput::Elements):
 //! - the paper's centre-crack mesh (500 × 250 identical squares, shared K_e, rayon gather);
-//! - the sinusoidal-interface mesh (750 × 250 vertical-sided quads, forces computed on the fly);
+//! - the sinusoidal-interface mesh (750 × 250 vertical-sided quads, forces computed on the fly),
+//!   and its kernel alone on one thread (`sinusoid_mapped_750x250_kernel_alone`: the element
+//!   forces of every row, not summed into the nodes);
 //! - the centre crack's Gmsh triangle mesh (`meshes/center-crack-tri.msh`, 43 138 T3, the
 //!   unstructured kernel in its own node order, with the copies into and out of it);
 //! - the unstructured kernel (`fem::model::unstructured`) on the centre-crack rectangle written
@@ -32,6 +34,17 @@ fn bench_scene(c: &mut Criterion, name: &str, scene: &str) {
     g.bench_function(name, |b| {
         b.iter_custom(|iters| time_on_pool(iters, || fem::probe::bulk_forces(&model, &u, &mut f)))
     });
+    // On a mapped mesh, its kernel alone on one thread: the element forces of every row into one
+    // row buffer, neither summed into the nodes nor zeroed, against the multiplies it must do
+    // (docs/performance.md, "The mapped kernel alone against its multiplies").
+    let mut row = Vec::new();
+    if fem::probe::mapped_element_forces(&model, &u, &mut row).is_some() {
+        g.bench_function(format!("{name}_kernel_alone"), |b| {
+            b.iter_custom(|iters| {
+                time_on_pool(iters, || fem::probe::mapped_element_forces(&model, &u, &mut row))
+            })
+        });
+    }
     g.finish();
 }
 

@@ -5,6 +5,9 @@
 //! - `fma_peak_all_cores`: the same chains on every thread of the pool at once, counted over all
 //!   of them: divided by its rate on one thread (`RAYON_NUM_THREADS=1`), the number of cores whose
 //!   arithmetic the machine gives.
+//! - `mul_peak`: multiplies per second on one core, from 16 independent 8-wide chains x ← x·a
+//!   (as for `fma_peak`), reported in multiply lanes: the ceiling of the mapped kernel, bound by
+//!   its multiplies.
 //! - `div_peak`: divisions per second on one core, from 16 independent 8-wide chains x ← x / a
 //!   (AVX-512, AVX2 or the portable build, as for `fma_peak`), reported in division lanes: the
 //!   ceiling of the node update, whose a = f/m takes two divisions a node.
@@ -91,6 +94,22 @@ chains!(
 #[cfg(target_arch = "x86_64")]
 chains!(
     "avx512f",
+    mul_avx512(a, b),
+    _mm512_set1_pd(1.0),
+    |x| _mm512_mul_pd(_mm512_mul_pd(*x, _mm512_set1_pd(a)), _mm512_set1_pd(b)),
+    |v| _mm512_reduce_add_pd(*v)
+);
+#[cfg(target_arch = "x86_64")]
+chains!(
+    "avx2",
+    mul_avx2(a, b),
+    _mm256_set1_pd(1.0),
+    |x| _mm256_mul_pd(_mm256_mul_pd(*x, _mm256_set1_pd(a)), _mm256_set1_pd(b)),
+    sum256
+);
+#[cfg(target_arch = "x86_64")]
+chains!(
+    "avx512f",
     div_avx512(a),
     _mm512_set1_pd(1.0),
     |x| _mm512_div_pd(*x, _mm512_set1_pd(a)),
@@ -131,6 +150,25 @@ fn fma(a: f64, b: f64) -> f64 {
     portable(|v| v.mul_add(a, b))
 }
 
+/// 16 independent chains of `ROUNDS` steps x ← (x · a) · b on the widest vectors the CPU has:
+/// twice as many multiply lanes as [`fma_lanes`] counts FMA lanes (the kernels use separate
+/// multiplies and adds, no fused ones). Two multiplies a step: with one, the compiler rotated
+/// the chains through registers and the stack, and timed that instead.
+fn mul(a: f64, b: f64) -> f64 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the CPU reported AVX-512F at run time.
+            return unsafe { mul_avx512(a, b) };
+        }
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU reported AVX2 at run time.
+            return unsafe { mul_avx2(a, b) };
+        }
+    }
+    portable(|v| v * a * b)
+}
+
 /// 16 independent chains of `ROUNDS` divisions x ← x / a on the widest vectors the CPU has:
 /// as many division lanes as [`fma_lanes`] counts FMA lanes.
 fn div(a: f64) -> f64 {
@@ -154,6 +192,11 @@ fn bench_fma(c: &mut Criterion) {
     g.bench_function("fma_peak_one_core", |bch| {
         bch.iter(|| fma(black_box(0.999_999), black_box(1e-9)))
     });
+    g.throughput(Throughput::Elements(2 * fma_lanes() as u64));
+    g.bench_function("mul_peak_one_core", |bch| {
+        bch.iter(|| mul(black_box(0.999_999), black_box(1.000_001)))
+    });
+    g.throughput(Throughput::Elements(fma_lanes() as u64));
     g.bench_function("div_peak_one_core", |bch| {
         bch.iter(|| div(black_box(1.000_000_1)))
     });
