@@ -5,9 +5,9 @@
 //! - `fma_peak_all_cores`: the same chains on every thread of the pool at once, counted over all
 //!   of them: divided by its rate on one thread (`RAYON_NUM_THREADS=1`), the number of cores whose
 //!   arithmetic the machine gives.
-//! - `mul_peak`: multiplies per second on one core, from 16 independent 8-wide chains x ← x·a
-//!   (as for `fma_peak`), reported in multiply lanes: the ceiling of the mapped kernel, bound by
-//!   its multiplies.
+//! - `mul_peak`: multiplies per second on one core, from 16 independent 8-wide chains
+//!   x ← (x·a)·b (as for `fma_peak`), reported in multiply lanes: the ceiling of the mapped
+//!   kernel, bound by its multiplies.
 //! - `div_peak`: divisions per second on one core, from 16 independent 8-wide chains x ← x / a
 //!   (AVX-512, AVX2 or the portable build, as for `fma_peak`), reported in division lanes: the
 //!   ceiling of the node update, whose a = f/m takes two divisions a node.

@@ -54,10 +54,11 @@ pub fn bulk_forces(model: &Model, u: &[Vector2<f64>], f: &mut [Vector2<f64>]) {
     model.internal_forces(u, f);
 }
 
-/// The mapped kernel alone, on the calling thread: every element row's element forces (the
-/// corners' −f_e [N/m]) computed from displacements `u` [m] into one row buffer in turn, neither
-/// summed into the nodes nor kept (benchmarks: the kernel against its multiplies). Returns the
-/// number of elements computed, or `None` when the model is not on a mapped mesh.
+/// The mapped kernel alone, on the calling thread: every element row's element forces (each
+/// corner's internal force f_e [N/m], which −f_int subtracts) computed from displacements `u` [m]
+/// into one row buffer in turn, neither summed into the nodes nor kept (benchmarks: the kernel
+/// against its multiplies). Returns the number of elements computed, or `None` when the model is
+/// not on a mapped mesh.
 pub fn mapped_element_forces(model: &Model, u: &[Vector2<f64>], row: &mut Vec<f64>) -> Option<usize> {
     let BulkMesh::Grid {
         grid,
