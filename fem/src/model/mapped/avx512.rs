@@ -18,7 +18,7 @@ kernel_in! {
     // twelve blocks of eight elements, six cache lines of shapes each: the whole runs' bulk-force
     // phase took 7 % less than with two blocks (as the four-lane build's sixteen elements), where
     // a benchmark whose shapes stay in the cache had shown no difference (docs/performance.md,
-    // "The mapped kernel alone against its multiplies")
+    // "The shapes asked of the cache twelve blocks ahead")
     ahead: 12,
     set1: _mm512_set1_pd,
     zero: _mm512_setzero_pd,
