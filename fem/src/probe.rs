@@ -67,14 +67,10 @@ pub fn mapped_element_forces(model: &Model, u: &[Vector2<f64>], row: &mut Vec<f6
     else {
         return None;
     };
-    let w = grid.nx + 1;
     let flat: &[f64] = bytemuck::cast_slice(u);
     row.resize(crate::model::mapped::row_len(grid.nx), 0.0);
-    for (r, &layer) in grid.upper_layer[..grid.ny].iter().enumerate() {
-        let (lower, upper) = (
-            &flat[2 * layer * w..2 * (layer + 1) * w],
-            &flat[2 * (layer + 1) * w..2 * (layer + 2) * w],
-        );
+    for r in 0..grid.ny {
+        let (lower, upper) = crate::model::mapped::row_layers(grid, flat, r);
         crate::model::mapped::row_forces(k, r, lower, upper, row);
     }
     Some(grid.num_elements())

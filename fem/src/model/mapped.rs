@@ -598,6 +598,16 @@ fn layer_sum(layer: usize, below: Option<&[f64]>, above: Option<&[f64]>, out: &m
     }
 }
 
+/// The displacement rows (x, y pairs) [m] of element row `r`'s lower and upper node layers, out
+/// of every node's displacements `flat`.
+pub(crate) fn row_layers<'a>(grid: &Grid, flat: &'a [f64], r: usize) -> (&'a [f64], &'a [f64]) {
+    let (w, layer) = (grid.nx + 1, grid.upper_layer[r]);
+    (
+        &flat[2 * layer * w..2 * (layer + 1) * w],
+        &flat[2 * (layer + 1) * w..2 * (layer + 2) * w],
+    )
+}
+
 /// f = −f_int(u) (overwrites `f`). Element rows are processed in two passes, those whose lower
 /// node layer is even, then odd: within a pass the rows write disjoint layer pairs, so the
 /// parallel scatter has no race and needs no atomics. Each row's element forces go through
@@ -618,11 +628,7 @@ pub(crate) fn internal_forces(grid: &Grid, k: &MappedStiffness, u: &[Vector2<f64
                 return;
             };
             let (lo, hi) = pair.split_at_mut(w);
-            let layer = grid.upper_layer[r];
-            let (ul, uh) = (
-                &flat[2 * layer * w..2 * (layer + 1) * w],
-                &flat[2 * (layer + 1) * w..2 * (layer + 2) * w],
-            );
+            let (ul, uh) = row_layers(grid, flat, r);
             let mut segment = [0.0; 8 * SEGMENT];
             for first in (0..nx).step_by(SEGMENT) {
                 // a segment at a time: a row's forces would need a buffer per task
