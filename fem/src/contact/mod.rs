@@ -340,63 +340,70 @@ pub(crate) fn resolve(
     // long ones in parallel.
     let frictionless_law = |i: usize| frictionless.get(i).copied().unwrap_or(false);
     let (grid, frames, area_sum, normal) = (&ws.grid, &ws.frames, &ws.area_sum, &ws.normal);
+    let detect_and_respond = |k: usize, own: &mut NodeContact, node: u32| -> Detected {
+        let i = node as usize;
+        let slave = Slave {
+            node,
+            tied: tied_of(tied_twin, i),
+            normal: normal[i],
+        };
+        // the slave's list holds every master it can take; a slave without one reads its
+        // cell, whose wider reach tells whether a master lies deeper than d_max (lost)
+        let (candidates, listed) = grid.candidates_of(k, x[i]);
+        let (mut found, mut lost) = closest_master_or_depth(&slave, candidates, segments, frames, x, &limits);
+        if found.is_none() && listed {
+            let cell = grid.candidates(x[i]);
+            (found, lost) = closest_master_or_depth(&slave, cell, segments, frames, x, &limits);
+        }
+        let area = area_sum[i].norm();
+        own.area = area;
+        let Some((e, proj)) = found else {
+            own.clear(p.prakash_ratio);
+            return Detected::Lost(lost);
+        };
+        let segment = segments[e as usize];
+        let law = if frictionless_law(i) { &no_friction } else { &law };
+        let r = respond(
+            p.eps_n,
+            law,
+            area,
+            (segment, &proj),
+            (
+                own.history.as_ref(),
+                own.touched.then_some(own.regularized_pressure),
+            ),
+            x,
+        );
+        own.record(segment, &proj, &r);
+        let w_area = forces::AVERAGING_WEIGHT * area;
+        own.friction_work -= w_area * r.friction.traction * r.slip;
+        if r.friction.slipping && law.friction_coeff > 0.0 {
+            own.coulomb_work += w_area * law.friction_coeff * r.friction_pressure * r.slip.abs();
+        }
+        Detected::Hit {
+            segment,
+            xi_clamped: proj.xi_clamped,
+            force: r.force,
+            depth: -proj.gap,
+            dissipation: w_area * law.friction_coeff * r.friction_pressure * r.friction.plastic_slip,
+        }
+    };
     state.admit(nodes);
+    // Each task writes what it hands on into its own slot. Returned through rayon's `map` and
+    // `collect_into_vec`, the value passed through the stack and was read back at once in other
+    // widths (docs/performance.md, "Contact at scale": "What each slave hands on, written in
+    // its slot").
+    ws.detected.resize(nodes.len(), Detected::Lost(false));
     state
         .nodes
         .par_iter_mut()
         .zip(nodes.par_iter())
+        .zip(ws.detected.par_iter_mut())
         .enumerate()
         .with_min_len(1024)
-        .map(|(k, (own, &node))| {
-            let i = node as usize;
-            let slave = Slave {
-                node,
-                tied: tied_of(tied_twin, i),
-                normal: normal[i],
-            };
-            // the slave's list holds every master it can take; a slave without one reads its
-            // cell, whose wider reach tells whether a master lies deeper than d_max (lost)
-            let (candidates, listed) = grid.candidates_of(k, x[i]);
-            let (mut found, mut lost) =
-                closest_master_or_depth(&slave, candidates, segments, frames, x, &limits);
-            if found.is_none() && listed {
-                let cell = grid.candidates(x[i]);
-                (found, lost) = closest_master_or_depth(&slave, cell, segments, frames, x, &limits);
-            }
-            let area = area_sum[i].norm();
-            own.area = area;
-            let Some((e, proj)) = found else {
-                own.clear(p.prakash_ratio);
-                return Detected::Lost(lost);
-            };
-            let segment = segments[e as usize];
-            let law = if frictionless_law(i) { &no_friction } else { &law };
-            let r = respond(
-                p.eps_n,
-                law,
-                area,
-                (segment, &proj),
-                (
-                    own.history.as_ref(),
-                    own.touched.then_some(own.regularized_pressure),
-                ),
-                x,
-            );
-            own.record(segment, &proj, &r);
-            let w_area = forces::AVERAGING_WEIGHT * area;
-            own.friction_work -= w_area * r.friction.traction * r.slip;
-            if r.friction.slipping && law.friction_coeff > 0.0 {
-                own.coulomb_work += w_area * law.friction_coeff * r.friction_pressure * r.slip.abs();
-            }
-            Detected::Hit {
-                segment,
-                xi_clamped: proj.xi_clamped,
-                force: r.force,
-                depth: -proj.gap,
-                dissipation: w_area * law.friction_coeff * r.friction_pressure * r.friction.plastic_slip,
-            }
-        })
-        .collect_into_vec(&mut ws.detected);
+        .for_each(|(k, ((own, &node), out))| {
+            *out = detect_and_respond(k, own, node);
+        });
     let mut summary = ContactSummary::default();
     for (k, (&node, detected)) in nodes.iter().zip(&ws.detected).enumerate() {
         if let Some(&ahead) = nodes.get(k + AHEAD) {
