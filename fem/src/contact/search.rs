@@ -194,6 +194,9 @@ impl BucketGrid {
             let p = x[i as usize];
             for &e in self.candidates(p) {
                 let [a, b] = segments[e as usize];
+                if a == i || b == i {
+                    continue; // attached to the node: never its master
+                }
                 let (lo, hi) = inflated_box(x[a as usize], x[b as usize], self.margin);
                 if lo.x <= p.x && p.x <= hi.x && lo.y <= p.y && p.y <= hi.y {
                     listed.push(e);

@@ -368,3 +368,28 @@ fn kept_against_fresh(c: &mut Faces, steps: usize, mut motion: impl FnMut(usize,
     }
     tally
 }
+
+#[test]
+fn a_slave_list_leaves_out_the_segments_attached_to_it() {
+    // A segment attached to the slave is never its master (`closest_master_or_depth` rejects
+    // it), so the lists leave it out: a quarter of a flat interface's list entries. The faces
+    // touch, so each slave's list also holds the other face's segments.
+    let c = faces(40, H, 40, H, 0.37 * H, -0.01 * H);
+    let (segments, nodes) = (c.surface.segments().to_vec(), c.surface.nodes().to_vec());
+    let mut grid = BucketGrid::with_capacity(segments.len());
+    let rebuilds: usize = (0..40)
+        .map(|_| usize::from(grid.update(&segments, &nodes, &c.x, H, 1e-3)))
+        .sum();
+    assert_eq!(rebuilds, 2, "one rebuild, then one with the lists");
+    for (k, &i) in nodes.iter().enumerate() {
+        let (list, listed) = grid.candidates_of(k, c.x[i as usize]);
+        assert!(listed, "node {i} has a list");
+        assert!(!list.is_empty(), "node {i}: the other face's segments are listed");
+        for &e in list {
+            assert!(
+                !segments[e as usize].contains(&i),
+                "node {i}: its list holds segment {e}, attached to it"
+            );
+        }
+    }
+}
