@@ -553,10 +553,22 @@ fn at(r: &[f64], e: usize, a: usize, c: usize) -> f64 {
 /// element i − 1 before element i, so the sum is the same to the bit.
 pub(crate) fn layer_from_rows(layer: usize, below: Option<&[f64]>, above: Option<&[f64]>, out: &mut [f64]) {
     #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx512f") {
+        // SAFETY: the CPU reported AVX-512F at run time.
+        return unsafe { layer_from_rows_avx512(layer, below, above, out) };
+    }
+    #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU reported AVX2 at run time.
         return unsafe { layer_from_rows_avx2(layer, below, above, out) };
     }
+    layer_sum(layer, below, above, out)
+}
+
+/// [`layer_from_rows`] compiled for AVX-512F: the same operations, on wider registers.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn layer_from_rows_avx512(layer: usize, below: Option<&[f64]>, above: Option<&[f64]>, out: &mut [f64]) {
     layer_sum(layer, below, above, out)
 }
 
@@ -567,34 +579,54 @@ fn layer_from_rows_avx2(layer: usize, below: Option<&[f64]>, above: Option<&[f64
     layer_sum(layer, below, above, out)
 }
 
-/// The sum of [`layer_from_rows`], in any build.
+/// The corner forces of one element row that act on a layer: x and y of the corner each element
+/// i − 1 gives node i, then x and y of the corner element i gives it [N/m].
+type RowCorners<'a> = [&'a [f64]; 4];
+
+/// The sum of [`layer_from_rows`], in any build: each node's terms from +0, one row's after the
+/// other in the order given, in one pass over the layer.
 #[inline(always)]
 fn layer_sum(layer: usize, below: Option<&[f64]>, above: Option<&[f64]>, out: &mut [f64]) {
-    let w = out.len() / 2;
-    out.fill(0.0);
-    // (row, corner taken from element i − 1, corner taken from element i)
-    let below = below.map(|r| (r, 2usize, 3usize));
-    let above = above.map(|r| (r, 1usize, 0usize));
-    // the row above has this layer as its lower layer; the row below, the layer under it
-    let order = if layer.is_multiple_of(2) {
-        [above, below]
-    } else {
-        [below, above]
-    };
-    let nx = w - 1;
-    for (r, left, right) in order.into_iter().flatten() {
+    let nx = out.len() / 2 - 1;
+    // a row, the corner it takes from element i − 1 and the one from element i
+    fn corners(r: &[f64], left: usize, right: usize, nx: usize) -> RowCorners<'_> {
         let stride = r.len() / 8;
         let part = |a: usize, c: usize| &r[(2 * a + c) * stride..(2 * a + c) * stride + nx];
-        let (lx, ly, rx, ry) = (part(left, 0), part(left, 1), part(right, 0), part(right, 1));
-        // node i: element i − 1's corner, then element i's
-        out[0] -= rx[0];
-        out[1] -= ry[0];
-        for (i, o) in out[2..2 * nx].chunks_exact_mut(2).enumerate() {
-            o[0] = o[0] - lx[i] - rx[i + 1];
-            o[1] = o[1] - ly[i] - ry[i + 1];
+        [part(left, 0), part(left, 1), part(right, 0), part(right, 1)]
+    }
+    let below = below.map(|r| corners(r, 2, 3, nx));
+    let above = above.map(|r| corners(r, 1, 0, nx));
+    // the row above has this layer as its lower layer; the row below, the layer under it
+    let order = if layer.is_multiple_of(2) {
+        (above, below)
+    } else {
+        (below, above)
+    };
+    match order {
+        (Some(first), Some(second)) => rows_into_layer([first, second], out),
+        (Some(one), None) | (None, Some(one)) => rows_into_layer([one], out),
+        (None, None) => out.fill(0.0),
+    }
+}
+
+/// Node i of the layer: +0, minus each row's corner from element i − 1 then its corner from
+/// element i, row after row (the end nodes have one element a row).
+#[inline(always)]
+fn rows_into_layer<const N: usize>(rows: [RowCorners<'_>; N], out: &mut [f64]) {
+    let nx = out.len() / 2 - 1;
+    let (mut first, mut last) = ([0.0; 2], [0.0; 2]);
+    for [lx, ly, rx, ry] in rows {
+        first = [first[0] - rx[0], first[1] - ry[0]];
+        last = [last[0] - lx[nx - 1], last[1] - ly[nx - 1]];
+    }
+    out[..2].copy_from_slice(&first);
+    out[2 * nx..].copy_from_slice(&last);
+    for (i, o) in out[2..2 * nx].chunks_exact_mut(2).enumerate() {
+        let mut sum = [0.0; 2];
+        for [lx, ly, rx, ry] in rows {
+            sum = [sum[0] - lx[i] - rx[i + 1], sum[1] - ly[i] - ry[i + 1]];
         }
-        out[2 * nx] -= lx[nx - 1];
-        out[2 * nx + 1] -= ly[nx - 1];
+        o.copy_from_slice(&sum);
     }
 }
 
@@ -712,6 +744,76 @@ mod tests {
             )
             .is_none()
         );
+    }
+
+    /// Every build of the layer sum gives the bits of the portable one and of the terms
+    /// subtracted one at a time from +0 in the order the separate force pass subtracts them, on
+    /// a layer of 21 nodes (whole blocks of both widths and a tail), with a row below, a row above
+    /// or both, for an even and an odd layer.
+    #[test]
+    fn every_build_of_the_layer_sum_gives_the_bits_of_the_terms_in_order() {
+        let nx = 20;
+        let row = |seed: f64| -> Vec<f64> {
+            (0..row_len(nx))
+                .map(|i| ((i as f64 + seed) * 0.731).sin() * 10f64.powi(i as i32 % 7 - 3))
+                .collect()
+        };
+        let (below, above) = (row(0.5), row(7.25));
+        type Build = fn(usize, Option<&[f64]>, Option<&[f64]>, &mut [f64]);
+        let mut builds: Vec<(&str, Build)> = vec![("dispatched", layer_from_rows), ("portable", layer_sum)];
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx2") {
+                // SAFETY (of the call below): the CPU reported AVX2.
+                builds.push(("avx2", |l, b, a, o| unsafe { layer_from_rows_avx2(l, b, a, o) }));
+            }
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                // SAFETY (of the call below): the CPU reported AVX-512F.
+                builds.push(("avx512", |l, b, a, o| unsafe {
+                    layer_from_rows_avx512(l, b, a, o)
+                }));
+            }
+        }
+        for layer in [4, 5] {
+            for (b, a) in [(true, true), (true, false), (false, true)] {
+                let (b, a) = (b.then_some(&below[..]), a.then_some(&above[..]));
+                // node i takes corner 2 of element i − 1 and corner 3 of element i in the row
+                // below, corners 1 and 0 in the row above; the row whose lower layer is even first
+                let mut want = vec![0.0; 2 * (nx + 1)];
+                let terms = [(b, 2, 3), (a, 1, 0)];
+                let order = if layer % 2 == 0 {
+                    [terms[1], terms[0]]
+                } else {
+                    terms
+                };
+                for (r, left, right) in order {
+                    let Some(r) = r else { continue };
+                    for i in 0..=nx {
+                        for c in 0..2 {
+                            if i > 0 {
+                                want[2 * i + c] -= at(r, i - 1, left, c);
+                            }
+                            if i < nx {
+                                want[2 * i + c] -= at(r, i, right, c);
+                            }
+                        }
+                    }
+                }
+                let want: Vec<u64> = want.iter().map(|x| x.to_bits()).collect();
+                for (name, build) in &builds {
+                    let mut out = vec![f64::NAN; 2 * (nx + 1)];
+                    build(layer, b, a, &mut out);
+                    let got: Vec<u64> = out.iter().map(|x| x.to_bits()).collect();
+                    assert_eq!(
+                        got,
+                        want,
+                        "{name}, layer {layer}, below {}, above {}",
+                        b.is_some(),
+                        a.is_some()
+                    );
+                }
+            }
+        }
     }
 
     /// A row of two segments, the second of 11 elements (a padded block of either width), each
