@@ -579,8 +579,10 @@ fn layer_from_rows_avx2(layer: usize, below: Option<&[f64]>, above: Option<&[f64
     layer_sum(layer, below, above, out)
 }
 
-/// The corner forces of one element row that act on a layer: x and y of the corner each element
-/// i − 1 gives node i, then x and y of the corner element i gives it [N/m].
+/// The corner forces of one element row that act on a layer, each a slice over the row's
+/// elements e [N/m]: x and y of e's corner at its right end (the one node e + 1 takes from its
+/// element i − 1), then x and y of e's corner at its left end (the one node e takes from its
+/// element i).
 type RowCorners<'a> = [&'a [f64]; 4];
 
 /// The sum of [`layer_from_rows`], in any build: each node's terms from +0, one row's after the
