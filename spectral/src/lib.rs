@@ -23,6 +23,7 @@ pub mod law;
 pub mod loading;
 mod modes;
 pub mod output;
+mod placement;
 pub mod profile;
 mod scene;
 mod soe;
@@ -33,6 +34,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use preflight::checkpoint::{Resumed, Writer};
 
 use checkpoint::Cursor;
+use placement::Placement;
 
 pub use elastodynamics::{ConvolutionStats, FaceFields, HalfSpaceParams, HalfSpaces, Operator};
 pub use error::{BuildError, RunError, SceneError};
@@ -130,10 +132,28 @@ pub fn run_checkpointed(
     scene: &Scene,
     progress: &mut dyn FnMut(u64, u64),
     stop: &AtomicBool,
-    mut checkpoints: Option<&mut Writer>,
+    checkpoints: Option<&mut Writer>,
     resumed: Option<&Resumed>,
 ) -> Result<RunOutput, RunError> {
-    let (model, mut st, mut ws) = solver::build(scene)?;
+    let (model, st, ws) = solver::build(scene)?;
+    run_placed(
+        scene,
+        (model, st, ws),
+        (progress, stop),
+        (checkpoints, resumed),
+        &mut Placement::new(),
+    )
+}
+
+/// [`run_checkpointed`] on a model built from `scene`, its chunks of steps run where `placement`
+/// says (the whole pool or one thread: [`placement`]).
+fn run_placed(
+    scene: &Scene,
+    (model, mut st, mut ws): (solver::Model, solver::State, solver::Workspace),
+    (progress, stop): (&mut dyn FnMut(u64, u64), &AtomicBool),
+    (mut checkpoints, resumed): (Option<&mut Writer>, Option<&Resumed>),
+    placement: &mut Placement,
+) -> Result<RunOutput, RunError> {
     let last = scene.last_step();
     let total = last + 1;
     let dt = model.dt;
@@ -166,11 +186,11 @@ pub fn run_checkpointed(
     while at.next_step <= last {
         let first = at.next_step;
         let end = (first + report_every).min(last + 1);
-        // The steps run inside a rayon scope, i.e. on a pool thread: the per-step parallel loops
-        // then split work through the worker's own deque instead of injecting jobs from this
-        // thread and sleeping on a latch twice per step (measured: ~13 % of the run in the
-        // kernel's context-switch paths).
-        let failed = rayon::scope(|_| {
+        // The steps run on a pool thread (inside a rayon scope, or on the one-thread pool the
+        // placement may choose): the per-step parallel loops then split work through the
+        // worker's own deque instead of injecting jobs from this thread and sleeping on a latch
+        // twice per step (measured: ~13 % of the run in the kernel's context-switch paths).
+        let failed = placement.run(end - first, || {
             // the progress report and the checkpoint between two chunks are not booked
             ws.clock.start();
             for n in first..end {
@@ -205,7 +225,10 @@ pub fn run_checkpointed(
             }
             None
         });
-        out.profile = ws.clock.profile();
+        out.profile = Profile {
+            one_thread_steps: placement.one_thread_steps(),
+            ..ws.clock.profile()
+        };
         if let Some((n, t, None)) = failed {
             // the state after step n − 1 (u^n included), resumable at step n
             let stopped = (n.saturating_sub(1), (t - dt).max(0.0));

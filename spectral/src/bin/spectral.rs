@@ -152,8 +152,13 @@ fn report(output: &spectral::RunOutput, out_dir: &Path, wall: f64, from: u64) ->
     } else {
         String::new()
     };
+    // the placement's choice: the steps a timed trial found faster on one thread
+    let one = match p.one_thread_steps {
+        0 => String::new(),
+        n => format!(", {n} of them on one (faster here, as timed during the run)"),
+    };
     println!(
-        "{computed} steps{resumed} on {} thread(s); where the time went:\n{}",
+        "{computed} steps{resumed} on {} thread(s){one}; where the time went:\n{}",
         rayon::current_num_threads(),
         spectral::profile::table(p, computed, s.grid_points)
     );
