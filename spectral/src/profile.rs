@@ -78,9 +78,9 @@ pub struct Profile {
     pub beside: [f64; PHASES],
     /// Cost of one lap (one `Instant::now()` and the booking), measured when the run started [s].
     pub lap_cost_s: f64,
-    /// Steps run on one thread of a larger pool, where a timed trial found one thread faster
-    /// than the pool (docs/performance.md, "The spectral step when the two threads share no
-    /// cache") [-].
+    /// Steps run on one thread of a larger pool: the chunks that timed one thread against the
+    /// pool, and those run there because such a trial found it faster (docs/performance.md, "The
+    /// spectral step when the two threads share no cache") [-].
     pub one_thread_steps: u64,
 }
 

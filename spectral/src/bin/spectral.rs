@@ -152,10 +152,10 @@ fn report(output: &spectral::RunOutput, out_dir: &Path, wall: f64, from: u64) ->
     } else {
         String::new()
     };
-    // the placement's choice: the steps a timed trial found faster on one thread
+    // the placement's steps on one thread: its timed trials, and the chunks a trial chose it for
     let one = match p.one_thread_steps {
         0 => String::new(),
-        n => format!(", {n} of them on one (faster here, as timed during the run)"),
+        n => format!(", {n} of them on one (its timed trials, and any chunks run there as the faster)"),
     };
     println!(
         "{computed} steps{resumed} on {} thread(s){one}; where the time went:\n{}",
