@@ -420,6 +420,9 @@ class SpectralTable(_TableView):
     fast_tolerance: float
     """Largest error of the fast path's kernel fit on [0, tcut] relative to max|K|, in
     [1e-10, 1e-2] (default 1e-5) [-]."""
+    fast_storage: Literal["f64", "f32"]
+    """How the fast path keeps its recursion states from step to step: ``"f64"`` (default) or
+    ``"f32"`` (rounded to single precision: two thirds of the memory; fast path only) [-]."""
     contact: bool
     """Contact (no interpenetration) on broken points (default true; off only for verification
     set-ups) [-]."""

@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::convolution::{self, ModeSums, Weights};
 use crate::error::BuildError;
-use crate::fast::{FastConvolution, FastState, MODES_PER_TASK, Packed, SoeFit};
+use crate::fast::{FastConvolution, FastState, FastStorage, MODES_PER_TASK, Packed, SoeFit};
 use crate::history::{Entry, History, HistoryState};
 use crate::kernels::Kernels;
 use crate::modes::Modes;
@@ -46,6 +46,8 @@ pub struct HalfSpaceParams {
     pub convolution: Convolution,
     /// Fast path: kernel-fit tolerance relative to max|K| [-].
     pub fast_tolerance: f64,
+    /// Fast path: how the recursion states are stored between steps.
+    pub fast_storage: FastStorage,
 }
 
 /// Displacement, velocity or traction fields of both faces on the grid (SoA).
@@ -142,7 +144,7 @@ impl HalfSpaces {
                 stats.history_entries = 0;
                 stats.exp_terms = fit.terms() as u64;
                 stats.fit_error = fit.max_error;
-                let fast = FastConvolution::new(&modes, &fit);
+                let fast = FastConvolution::new(&modes, &fit, p.fast_storage);
                 stats.bytes_per_step = fast.bytes() as u64;
                 Path::Fast(Box::new(fast))
             }
@@ -767,6 +769,7 @@ mod tests {
             max_steps: 10,
             convolution: Convolution::Fast,
             fast_tolerance: 1e-5,
+            fast_storage: FastStorage::F64,
         })
         .unwrap()
     }

@@ -24,6 +24,7 @@ use crate::convolution::ModeSums;
 use crate::history::{Entry, fill};
 use crate::modes::Modes;
 use crate::profile::Work;
+pub use crate::scene::FastStorage;
 pub use crate::soe::SoeFit;
 
 #[cfg(target_arch = "x86_64")]
@@ -43,9 +44,58 @@ pub struct FastConvolution {
     /// w_p (g^H11, g^H22, g^K12)_{j,p} at [j r + p].
     g: Vec<[Complex64; 3]>,
     /// States at [j r + p]: real parts then imaginary parts of s_z for the eight real sequences in
-    /// the order of [`Lanes`].
-    s: Vec<State>,
+    /// the order of [`Lanes`], stored as `[spectral] fast_storage` says.
+    s: States,
     isa: Isa,
+}
+
+/// Every state of the recursion, in the storage the scene chose.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub(crate) enum States {
+    /// [`FastStorage::F64`].
+    F64(Vec<State>),
+    /// [`FastStorage::F32`].
+    F32(Vec<State32>),
+}
+
+impl States {
+    fn len(&self) -> usize {
+        match self {
+            States::F64(s) => s.len(),
+            States::F32(s) => s.len(),
+        }
+    }
+
+    /// Bytes of one state [B].
+    fn state_bytes(&self) -> usize {
+        match self {
+            States::F64(_) => std::mem::size_of::<State>(),
+            States::F32(_) => std::mem::size_of::<State32>(),
+        }
+    }
+
+    fn storage(&self) -> FastStorage {
+        match self {
+            States::F64(_) => FastStorage::F64,
+            States::F32(_) => FastStorage::F32,
+        }
+    }
+
+    /// The states of the poles `at`.
+    fn slice_mut(&mut self, at: Range<usize>) -> StatesMut<'_> {
+        match self {
+            States::F64(s) => StatesMut::F64(&mut s[at]),
+            States::F32(s) => StatesMut::F32(&mut s[at]),
+        }
+    }
+}
+
+/// The states of a block of modes, in either storage.
+pub(crate) enum StatesMut<'a> {
+    /// [`FastStorage::F64`].
+    F64(&'a mut [State]),
+    /// [`FastStorage::F32`].
+    F32(&'a mut [State32]),
 }
 
 /// The eight real input sequences of a mode, x fields first: (top x re, top x im, bottom x re,
@@ -61,6 +111,54 @@ pub(crate) struct State {
     im: Lanes,
 }
 
+/// [`State`] rounded to single precision ([`FastStorage::F32`]): the same lanes in half the
+/// bytes, one cache line a pole.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[repr(C, align(64))]
+pub(crate) struct State32 {
+    re: [f32; 8],
+    im: [f32; 8],
+}
+
+/// A stored recursion state: read as double-precision lanes, written back rounded to the
+/// storage's precision (to nearest, ties to even, as Rust's `as f32` and the vector conversions
+/// with the default rounding mode).
+pub(crate) trait Stored: Copy + Default + Send + Sync + 'static {
+    /// Whether the lanes are single precision, laid out as `[f32; 8]` real parts then `[f32; 8]`
+    /// imaginary parts (else `[f64; 8]` each): the vector builds load and store by it.
+    const SINGLE: bool;
+    /// The real and imaginary parts, exactly.
+    fn lanes(&self) -> (Lanes, Lanes);
+    /// Keeps `re` and `im`, rounded to the storage's precision.
+    fn keep(&mut self, re: &Lanes, im: &Lanes);
+}
+
+impl Stored for State {
+    const SINGLE: bool = false;
+    #[inline(always)]
+    fn lanes(&self) -> (Lanes, Lanes) {
+        (self.re, self.im)
+    }
+    #[inline(always)]
+    fn keep(&mut self, re: &Lanes, im: &Lanes) {
+        self.re = *re;
+        self.im = *im;
+    }
+}
+
+impl Stored for State32 {
+    const SINGLE: bool = true;
+    #[inline(always)]
+    fn lanes(&self) -> (Lanes, Lanes) {
+        (self.re.map(f64::from), self.im.map(f64::from))
+    }
+    #[inline(always)]
+    fn keep(&mut self, re: &Lanes, im: &Lanes) {
+        self.re = re.map(|x| x as f32);
+        self.im = im.map(|x| x as f32);
+    }
+}
+
 /// Flops of one pole of one mode in [`mode_kernel`]: the state update s ← z s + u on the 8 lanes
 /// (real part 2 multiplies and 2 adds, imaginary part 2 multiplies and 1 add: 7 a lane) and the
 /// two accumulations H += Re(g_H s), K += Re(g_K12 s) (2 multiplies and 2 adds each: 8 a lane),
@@ -68,23 +166,27 @@ pub(crate) struct State {
 pub(crate) const FLOPS_PER_POLE: f64 = 120.0;
 
 /// One mode: s ← z s + u for every pole, then H = Σ Re(g_H s) (H11 on x lanes, H22 on y lanes) and
-/// K = Σ Re(g_K12 s). Written as vertical operations on 8-lane arrays so it vectorises.
+/// K = Σ Re(g_K12 s). Written as vertical operations on 8-lane arrays so it vectorises. The sums
+/// take the new state as computed, before it is stored: in double precision it is the stored
+/// value; in single precision the sums do not see its rounding, which only the next step reads.
 #[inline(always)]
 #[allow(clippy::needless_range_loop)] // lane-indexed vertical ops over four arrays: clearer than a 4-way zip
-fn mode_kernel(z: &[Complex64], g: &[[Complex64; 3]], s: &mut [State], u: &Lanes) -> (Lanes, Lanes) {
+fn mode_kernel<S: Stored>(z: &[Complex64], g: &[[Complex64; 3]], s: &mut [S], u: &Lanes) -> (Lanes, Lanes) {
     let mut h = [0.0f64; 8];
     let mut k = [0.0f64; 8];
     for ((zp, gp), sp) in z.iter().zip(g).zip(s.iter_mut()) {
         let (zr, zi) = (zp.re, zp.im);
+        let (re, im) = sp.lanes();
+        let (mut new_re, mut new_im) = ([0.0f64; 8], [0.0f64; 8]);
         for q in 0..8 {
-            let (re, im) = (sp.re[q], sp.im[q]);
-            sp.re[q] = zr * re - zi * im + u[q];
-            sp.im[q] = zr * im + zi * re;
+            new_re[q] = zr * re[q] - zi * im[q] + u[q];
+            new_im[q] = zr * im[q] + zi * re[q];
         }
+        sp.keep(&new_re, &new_im);
         for q in 0..8 {
             let gh = if q < 4 { gp[0] } else { gp[1] };
-            h[q] += gh.re * sp.re[q] - gh.im * sp.im[q];
-            k[q] += gp[2].re * sp.re[q] - gp[2].im * sp.im[q];
+            h[q] += gh.re * new_re[q] - gh.im * new_im[q];
+            k[q] += gp[2].re * new_re[q] - gp[2].im * new_im[q];
         }
     }
     (h, k)
@@ -152,11 +254,11 @@ impl Isa {
 /// in narrower pieces: a store-forwarding stall a mode); the AVX2 build is written in intrinsics
 /// ([`avx2::modes`]).
 #[inline(always)]
-fn modes_kernel(
+fn modes_kernel<S: Stored>(
     r: usize,
     z: &[Complex64],
     g: &[[Complex64; 3]],
-    s: &mut [State],
+    s: &mut [S],
     spectra: &[Entry],
     out: &mut [ModeSums],
 ) {
@@ -189,22 +291,22 @@ fn modes_kernel(
 
 /// The arguments of [`modes_kernel`] for one task: `r` poles a mode, then the modes' z, g,
 /// states, spectra and sums.
-type Task<'a> = (
+type Task<'a, S> = (
     usize,
     &'a [Complex64],
     &'a [[Complex64; 3]],
-    &'a mut [State],
+    &'a mut [S],
     &'a [Entry],
     &'a mut [ModeSums],
 );
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx2,fma")]
-fn modes_avx512((r, z, g, s, e, o): Task<'_>) {
+fn modes_avx512<S: Stored>((r, z, g, s, e, o): Task<'_, S>) {
     modes_kernel(r, z, g, s, e, o)
 }
 
-fn dispatch(isa: Isa, task: Task<'_>) {
+fn dispatch_in<S: Stored>(isa: Isa, task: Task<'_, S>) {
     match isa {
         // SAFETY: `Isa::detect` returned these only if the CPU reported the features at run time.
         #[cfg(target_arch = "x86_64")]
@@ -218,9 +320,26 @@ fn dispatch(isa: Isa, task: Task<'_>) {
     }
 }
 
+/// [`modes_kernel`] on `isa`'s build, for the states' storage.
+fn dispatch(
+    isa: Isa,
+    r: usize,
+    z: &[Complex64],
+    g: &[[Complex64; 3]],
+    s: StatesMut<'_>,
+    e: &[Entry],
+    o: &mut [ModeSums],
+) {
+    match s {
+        StatesMut::F64(s) => dispatch_in(isa, (r, z, g, s, e, o)),
+        StatesMut::F32(s) => dispatch_in(isa, (r, z, g, s, e, o)),
+    }
+}
+
 impl FastConvolution {
-    /// Coefficients for every mode j ≥ 1 (mode 0 has no history term).
-    pub fn new(modes: &Modes, fit: &SoeFit) -> FastConvolution {
+    /// Coefficients for every mode j ≥ 1 (mode 0 has no history term), the states stored as
+    /// `storage` says.
+    pub fn new(modes: &Modes, fit: &SoeFit, storage: FastStorage) -> FastConvolution {
         let r = fit.poles.len();
         let nm = modes.k.len();
         let mut z = vec![Complex64::default(); nm * r];
@@ -234,11 +353,15 @@ impl FastConvolution {
                 g[j * r + p] = [fit.amps[0][p] * f, fit.amps[1][p] * f, fit.amps[2][p] * f];
             }
         }
+        let s = match storage {
+            FastStorage::F64 => States::F64(vec![State::default(); nm * r]),
+            FastStorage::F32 => States::F32(vec![State32::default(); nm * r]),
+        };
         FastConvolution {
             r,
             z,
             g,
-            s: vec![State::default(); nm * r],
+            s,
             isa: Isa::detect(),
         }
     }
@@ -257,7 +380,7 @@ impl FastConvolution {
 
     /// Bytes of coefficients and states touched per step [B].
     pub fn bytes(&self) -> usize {
-        self.z.len() * 16 + self.g.len() * 48 + self.s.len() * std::mem::size_of::<State>()
+        self.z.len() * 16 + self.g.len() * 48 + self.s.len() * self.s.state_bytes()
     }
 
     /// Work of the recursion over one step (docs/spectral-model.md §4.3): per mode
@@ -267,7 +390,7 @@ impl FastConvolution {
     pub fn work(&self) -> Work {
         let modes = (self.s.len() / self.r.max(1)).saturating_sub(1) as f64;
         let poles = modes * self.r as f64;
-        let state = std::mem::size_of::<State>() as f64;
+        let state = self.s.state_bytes() as f64;
         Work {
             flops: poles * FLOPS_PER_POLE,
             read: modes * std::mem::size_of::<Entry>() as f64 + poles * (16.0 + 48.0 + state),
@@ -295,7 +418,16 @@ impl FastConvolution {
             isa: _,
         } = self;
         let FastState { states } = saved;
-        fill(s, states, "sum-of-exponentials states")
+        match (s, states.as_ref()) {
+            (States::F64(s), States::F64(saved)) => fill(s, saved, "sum-of-exponentials states"),
+            (States::F32(s), States::F32(saved)) => fill(s, saved, "sum-of-exponentials states"),
+            (s, saved) => Err(format!(
+                "its sum-of-exponentials states are stored as {}, the scene's spectral.fast_storage \
+                 says {}",
+                saved.storage().name(),
+                s.storage().name()
+            )),
+        }
     }
 
     /// Pushes Û^n of every mode and writes the eight convolutions per mode into `out`: the
@@ -315,10 +447,14 @@ impl FastConvolution {
     /// each: a caller zips its own per-mode arrays, chunked alike, and does its work on a block's
     /// modes in the same task as their recursion.
     pub(crate) fn blocks(&mut self, modes: Range<usize>) -> impl IndexedParallelIterator<Item = Block<'_>> {
+        use rayon::iter::Either;
         let (r, isa) = (self.r, self.isa);
         let (poles, at) = (r * MODES_PER_TASK, modes.start * r..modes.end * r);
-        self.s[at.clone()]
-            .par_chunks_mut(poles)
+        let states = match &mut self.s {
+            States::F64(s) => Either::Left(s[at.clone()].par_chunks_mut(poles).map(StatesMut::F64)),
+            States::F32(s) => Either::Right(s[at.clone()].par_chunks_mut(poles).map(StatesMut::F32)),
+        };
+        states
             .zip(
                 self.z[at.clone()]
                     .par_chunks(poles)
@@ -335,7 +471,7 @@ impl FastConvolution {
             isa: self.isa,
             z: &self.z[at.clone()],
             g: &self.g[at.clone()],
-            s: &mut self.s[at],
+            s: self.s.slice_mut(at),
         }
     }
 }
@@ -347,14 +483,14 @@ pub(crate) struct Block<'a> {
     isa: Isa,
     z: &'a [Complex64],
     g: &'a [[Complex64; 3]],
-    s: &'a mut [State],
+    s: StatesMut<'a>,
 }
 
 impl<'a> Block<'a> {
     /// Pushes Û^n of the block's modes (`spectra`, one a mode) and writes their eight
     /// convolutions into `out`.
     pub(crate) fn step(self, spectra: &[Entry], out: &mut [ModeSums]) {
-        dispatch(self.isa, (self.r, self.z, self.g, self.s, spectra, out));
+        dispatch(self.isa, self.r, self.z, self.g, self.s, spectra, out);
     }
 
     /// The block as the one-loop pass over its modes takes it, if the CPU has AVX-512F; else
@@ -381,7 +517,10 @@ impl FusedBlock<'_> {
         #[cfg(target_arch = "x86_64")]
         // SAFETY: `Block::fused` made a FusedBlock only where `Isa::detect` found AVX-512F.
         unsafe {
-            avx512::modes(r, z, g, s, p)
+            match s {
+                StatesMut::F64(s) => avx512::modes(r, z, g, s, p),
+                StatesMut::F32(s) => avx512::modes(r, z, g, s, p),
+            }
         }
         // off x86-64 `Block::fused` never makes one
         #[cfg(not(target_arch = "x86_64"))]
@@ -416,8 +555,8 @@ pub(crate) const MODES_PER_TASK: usize = 128;
 /// The fast path's recursion states (§4.3; `crate::fast::FastConvolution`).
 #[derive(Debug, Serialize, Deserialize)]
 pub(crate) struct FastState<'a> {
-    /// s_{j,p}(n) at [j r + p], mode 0 included (unused, zero).
-    pub states: Cow<'a, [State]>,
+    /// s_{j,p}(n) at [j r + p], mode 0 included (unused, zero), in the run's storage.
+    pub states: Cow<'a, States>,
 }
 
 #[cfg(test)]
@@ -436,7 +575,7 @@ mod tests {
             amps: [one.clone(), one.clone(), one],
             max_error: 0.0,
         };
-        let fast = FastConvolution::new(&modes, &fit);
+        let fast = FastConvolution::new(&modes, &fit, FastStorage::F64);
         // state: 8 lanes × (re, im) × 8 B = 128 B; z 16 B; g 3 × 16 B
         assert_eq!(std::mem::size_of::<State>(), 128);
         assert_eq!(fast.bytes(), 5 * 2 * (16 + 48 + 128), "mode 0 included");
@@ -449,14 +588,18 @@ mod tests {
         // per mode the 8 complex sums (128 B); per pole the state written back
         assert_eq!(w.written, (4 * 128 + 4 * 2 * 128) as f64);
         assert_eq!(w.bytes(), 3328.0);
+        // in single precision: 8 lanes × (re, im) × 4 B = 64 B a state, the same flops
+        let single = FastConvolution::new(&modes, &fit, FastStorage::F32);
+        assert_eq!(std::mem::size_of::<State32>(), 64);
+        assert_eq!(single.bytes(), 5 * 2 * (16 + 48 + 64));
+        let w = single.work();
+        assert_eq!(w.flops, 960.0);
+        assert_eq!(w.read, (4 * 64 + 4 * 2 * (16 + 48 + 64)) as f64);
+        assert_eq!(w.written, (4 * 128 + 4 * 2 * 64) as f64);
     }
 
-    /// Every instruction-set build the CPU has gives the portable build's bits: 301 modes (three
-    /// tasks of 128, the last one short), three poles, 25 steps of spectra that differ per mode,
-    /// lane and step. A build whose sums differ by one rounding fails it (one sum of the AVX-512
-    /// build scaled by 1 + 1e-15 did).
-    #[test]
-    fn every_instruction_set_gives_the_bits_of_the_portable_build() {
+    /// 600 points (301 modes: three tasks of 128, the last one short) and a fit of three poles.
+    fn three_poles() -> (Modes, SoeFit) {
         let modes = Modes::new(600, 1.0, 0.2, 100.0, 10);
         let amps = |a: f64| {
             vec![
@@ -475,49 +618,128 @@ mod tests {
             amps: [amps(1.1), amps(-0.6), amps(0.35)],
             max_error: 0.0,
         };
-        let run = |isa: Isa| {
-            let mut fast = FastConvolution::new(&modes, &fit);
+        (modes, fit)
+    }
+
+    /// Spectra of step `n` that differ per mode, lane and step.
+    fn spectra_of_step(nm: usize, n: usize) -> Vec<Entry> {
+        let v = |j: usize, q: f64| {
+            Complex64::new(
+                (0.37 * j as f64 + q + 0.11 * n as f64).sin(),
+                (q * j as f64).cos() / 3.0,
+            )
+        };
+        (0..nm)
+            .map(|j| Entry {
+                top_x: v(j, 0.1),
+                top_y: v(j, 0.2),
+                bottom_x: v(j, 0.3),
+                bottom_y: v(j, 0.4),
+            })
+            .collect()
+    }
+
+    /// The sixteen values of each mode's sums, in the order of [`ModeSums`].
+    fn values(out: &[ModeSums]) -> Vec<f64> {
+        out.iter()
+            .flat_map(|o| {
+                [
+                    o.h11_top,
+                    o.h11_bottom,
+                    o.h22_top,
+                    o.h22_bottom,
+                    o.k12_top_x,
+                    o.k12_bottom_x,
+                    o.k12_top_y,
+                    o.k12_bottom_y,
+                ]
+            })
+            .flat_map(|c| [c.re, c.im])
+            .collect()
+    }
+
+    /// Every instruction-set build the CPU has gives the portable build's bits, in both storages:
+    /// 301 modes, three poles, 25 steps of spectra that differ per mode, lane and step. A build
+    /// whose sums differ by one rounding fails it (one sum of the AVX-512 build scaled by
+    /// 1 + 1e-15 did).
+    #[test]
+    fn every_instruction_set_gives_the_bits_of_the_portable_build() {
+        let (modes, fit) = three_poles();
+        let run = |isa: Isa, storage: FastStorage| {
+            let mut fast = FastConvolution::new(&modes, &fit, storage);
             fast.isa = isa;
             let nm = modes.k.len();
             let mut out = vec![ModeSums::default(); nm];
             let mut bits = Vec::new();
             for n in 0..25 {
-                let v = |j: usize, q: f64| {
-                    Complex64::new(
-                        (0.37 * j as f64 + q + 0.11 * n as f64).sin(),
-                        (q * j as f64).cos() / 3.0,
-                    )
-                };
-                let spectra: Vec<Entry> = (0..nm)
-                    .map(|j| Entry {
-                        top_x: v(j, 0.1),
-                        top_y: v(j, 0.2),
-                        bottom_x: v(j, 0.3),
-                        bottom_y: v(j, 0.4),
-                    })
-                    .collect();
-                fast.step(&spectra, &mut out);
-                for o in &out {
-                    for c in [
-                        o.h11_top,
-                        o.h11_bottom,
-                        o.h22_top,
-                        o.h22_bottom,
-                        o.k12_top_x,
-                        o.k12_bottom_x,
-                        o.k12_top_y,
-                        o.k12_bottom_y,
-                    ] {
-                        bits.extend([c.re.to_bits(), c.im.to_bits()]);
-                    }
-                }
+                fast.step(&spectra_of_step(nm, n), &mut out);
+                bits.extend(values(&out).iter().map(|x| x.to_bits()));
             }
             bits
         };
-        let portable = run(Isa::Portable);
-        assert!(portable.iter().any(|&b| f64::from_bits(b) != 0.0));
-        for isa in Isa::every_one_here().into_iter().skip(1) {
-            assert!(run(isa) == portable, "{isa:?} differs from the portable build");
+        for storage in [FastStorage::F64, FastStorage::F32] {
+            let portable = run(Isa::Portable, storage);
+            assert!(portable.iter().any(|&b| f64::from_bits(b) != 0.0));
+            for isa in Isa::every_one_here().into_iter().skip(1) {
+                assert!(
+                    run(isa, storage) == portable,
+                    "{isa:?} differs from the portable build, states in {storage:?}"
+                );
+            }
+        }
+    }
+
+    /// In single precision the states are kept rounded and the sums take them unrounded: from
+    /// zero states, the first step's sums are those of double precision to the bit and its
+    /// states those of double precision rounded to f32; the next step reads the rounded states,
+    /// so its sums differ, within the rounding of a state (2⁻²⁴ relative) times the sums' terms.
+    /// Fails if the sums take the rounded state (the first step then differs), or if the states
+    /// are kept in double precision (the second step then agrees), on every build here.
+    #[test]
+    fn single_precision_storage_rounds_what_it_keeps_not_what_it_sums() {
+        let (modes, fit) = three_poles();
+        let nm = modes.k.len();
+        for isa in Isa::every_one_here() {
+            let mut double = FastConvolution::new(&modes, &fit, FastStorage::F64);
+            let mut single = FastConvolution::new(&modes, &fit, FastStorage::F32);
+            (double.isa, single.isa) = (isa, isa);
+            let (mut od, mut os) = (vec![ModeSums::default(); nm], vec![ModeSums::default(); nm]);
+            let first = spectra_of_step(nm, 0);
+            double.step(&first, &mut od);
+            single.step(&first, &mut os);
+            let (vd, vs) = (values(&od), values(&os));
+            assert!(
+                vd.iter().zip(&vs).all(|(a, b)| a.to_bits() == b.to_bits()),
+                "{isa:?}: the first step's sums differ"
+            );
+            let (States::F64(sd), States::F32(ss)) = (&double.s, &single.s) else {
+                panic!("storage not as asked");
+            };
+            let mut inexact = 0;
+            for (d, s) in sd.iter().zip(ss) {
+                for q in 0..8 {
+                    assert_eq!(s.re[q].to_bits(), (d.re[q] as f32).to_bits(), "{isa:?}");
+                    assert_eq!(s.im[q].to_bits(), (d.im[q] as f32).to_bits(), "{isa:?}");
+                    inexact += usize::from(f64::from(s.re[q]) != d.re[q]);
+                }
+            }
+            assert!(
+                inexact > 1000,
+                "{isa:?}: the test needs states that f32 rounds ({inexact})"
+            );
+            let second = spectra_of_step(nm, 1);
+            double.step(&second, &mut od);
+            single.step(&second, &mut os);
+            let (vd, vs) = (values(&od), values(&os));
+            let scale = vd.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let worst = vd.iter().zip(&vs).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            // each sum adds 3 poles × 2 products of a state and a g of magnitude ≤ about 1:
+            // a few 2⁻²⁴ ≈ 6e-8 of the largest sum, and not zero
+            assert!(worst > 0.0, "{isa:?}: the second step read unrounded states");
+            assert!(
+                worst <= 1e-6 * scale,
+                "{isa:?}: {worst:e} against sums up to {scale:e}"
+            );
         }
     }
 }

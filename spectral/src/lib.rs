@@ -42,8 +42,8 @@ pub use estimate::estimate;
 pub use output::{ContactMeanRecord, FieldRecord, RunOutput, RunStats, TipRecord, write_csv};
 pub use profile::{Phase, Profile, StepWork, Work};
 pub use scene::{
-    ContactFriction, Convolution, DEFAULT_FAST_TOLERANCE, InitialInterface, Nucleation, Ramp, Scene, Solid,
-    WaveSpeeds, rayleigh_ratio, slip_wave_exists,
+    ContactFriction, Convolution, DEFAULT_FAST_TOLERANCE, FastStorage, InitialInterface, Nucleation, Ramp,
+    Scene, Solid, WaveSpeeds, rayleigh_ratio, slip_wave_exists,
 };
 
 /// Runs the scene from t = 0 to T = `[loading].duration`.

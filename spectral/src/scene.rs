@@ -28,6 +28,36 @@ pub enum Convolution {
     Fast,
 }
 
+/// How the recursion states are stored (`[spectral] fast_storage`, docs/spectral-model.md
+/// §4.3). The arithmetic is double precision either way; only what is kept from one step to the
+/// next differs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FastStorage {
+    /// Each state in double precision (the default): 128 B a pole and mode.
+    #[default]
+    F64,
+    /// Each state rounded to single precision when stored: 64 B a pole and mode, so a step moves
+    /// 192 B a pole and mode instead of 320.
+    F32,
+}
+
+impl FastStorage {
+    /// The storage the scene's word names.
+    pub fn from_name(name: &str) -> Option<FastStorage> {
+        [FastStorage::F64, FastStorage::F32]
+            .into_iter()
+            .find(|s| s.name() == name)
+    }
+
+    /// The scene's word for it.
+    pub fn name(self) -> &'static str {
+        match self {
+            FastStorage::F64 => "f64",
+            FastStorage::F32 => "f32",
+        }
+    }
+}
+
 /// Which interface points are broken at t = 0 (`spectral.initial_interface`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum InitialInterface {
@@ -134,6 +164,7 @@ struct RawSpectral {
     field_output_interval: Option<f64>,
     convolution: Option<Convolution>,
     fast_tolerance: Option<f64>,
+    fast_storage: Option<String>,
     contact: Option<bool>,
     nucleation: Option<Nucleation>,
     initial_interface: Option<String>,
@@ -239,6 +270,8 @@ pub struct Scene {
     pub convolution: Convolution,
     /// Max abs error of the fast path's kernel fit on [0, tcut], relative to max|K| [-].
     pub fast_tolerance: f64,
+    /// How the fast path stores its recursion states between steps.
+    pub fast_storage: FastStorage,
     /// Contact (no interpenetration) on broken points; off only for verification set-ups.
     pub contact: bool,
     /// Optional nucleation perturbation of s_xy.

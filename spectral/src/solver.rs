@@ -160,6 +160,7 @@ fn half_space(scene: &Scene, solid: Solid) -> HalfSpaceParams {
         max_steps: scene.last_step() as usize + 1,
         convolution: scene.convolution,
         fast_tolerance: scene.fast_tolerance,
+        fast_storage: scene.fast_storage,
     }
 }
 

@@ -67,6 +67,31 @@ fn a_crack_the_periodic_grid_cannot_hold_is_refused() {
 }
 
 #[test]
+fn a_state_storage_that_is_not_one_or_does_not_apply_is_refused_with_its_key() {
+    let with = |line: &str| {
+        text("center-crack").replace(
+            "fast_tolerance = 1e-5 ",
+            &format!("fast_tolerance = 1e-5\n{line}\n"),
+        )
+    };
+    let s = with("fast_storage = \"f16\"");
+    let e = refused("storage-word", &s, &[]);
+    assert!(
+        e.contains("spectral.fast_storage") && e.contains("f32") && e.contains("f64"),
+        "{e}"
+    );
+    let s = with("fast_storage = \"f32\"").replace("convolution = \"fast\"", "convolution = \"direct\"");
+    let e = refused("storage-direct", &s, &[]);
+    assert!(
+        e.contains(&format!(
+            "line {}: spectral.fast_storage",
+            line_containing(&s, "fast_storage")
+        )) && e.contains("direct"),
+        "{e}"
+    );
+}
+
+#[test]
 fn a_kernel_fit_that_cannot_reach_its_tolerance_names_the_keys_to_change() {
     let s = text("center-crack").replace("poisson_ratio = 0.35 ", "poisson_ratio = 0.499 ");
     let e = refused("fit", &s, &[]);

@@ -23,9 +23,10 @@ fn scratch(name: &str) -> PathBuf {
 
 /// The §7.7 crack of `tiny-spectral-andrews` cut to 256 points on a 32 m period and 20 time units
 /// (640 steps), with friction and Prakash regularisation (σ̃ has a history), field snapshots, the
-/// given convolution path and, when `split`, a bottom half-space 1.44 times lighter (c_s 20 %
-/// higher; the bimaterial path, one operator per half-space). The direct path gets
-/// kernel_cutoff = 2 so that the ring buffers of most modes wrap during the run.
+/// given convolution path (`fast_f32`: the fast one, its states in single precision) and, when
+/// `split`, a bottom half-space 1.44 times lighter (c_s 20 % higher; the bimaterial path, one
+/// operator per half-space). The direct path gets kernel_cutoff = 2 so that the ring buffers of
+/// most modes wrap during the run.
 fn scene_text(convolution: &str, split: bool) -> String {
     let mut t: toml::Table =
         preflight::testing::scene_text(env!("CARGO_MANIFEST_DIR"), "tiny-spectral-andrews")
@@ -49,7 +50,15 @@ fn scene_text(convolution: &str, split: bool) -> String {
     set(&mut t, "spectral.t_star", 0.5.into());
     set(&mut t, "spectral.output_interval", 0.1.into());
     set(&mut t, "spectral.field_output_interval", 0.5.into());
+    // "fast_f32": the fast path with its states stored in single precision
+    let (convolution, storage) = match convolution {
+        "fast_f32" => ("fast", Some("f32")),
+        other => (other, None),
+    };
     set(&mut t, "spectral.convolution", convolution.into());
+    if let Some(storage) = storage {
+        set(&mut t, "spectral.fast_storage", storage.into());
+    }
     if convolution == "direct" {
         set(&mut t, "spectral.kernel_cutoff", 2.0.into());
     }
@@ -159,6 +168,11 @@ fn resumed_run_is_the_uninterrupted_one(name: &str, convolution: &str, split: bo
 #[test]
 fn a_resumed_run_is_the_uninterrupted_run_fast_path() {
     resumed_run_is_the_uninterrupted_one("fast", "fast", false);
+}
+
+#[test]
+fn a_resumed_run_is_the_uninterrupted_run_fast_path_states_in_single_precision() {
+    resumed_run_is_the_uninterrupted_one("fast-f32", "fast_f32", false);
 }
 
 #[test]

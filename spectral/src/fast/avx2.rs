@@ -7,20 +7,20 @@
 //! order of [`ModeSums`] once a mode (docs/performance.md, "The recursion in intrinsics (AVX2)").
 
 use std::arch::x86_64::{
-    __m256d, _mm_storeu_pd, _mm256_add_pd, _mm256_broadcast_sd, _mm256_castpd256_pd128,
-    _mm256_extractf128_pd, _mm256_load_pd, _mm256_loadu2_m128d, _mm256_mul_pd, _mm256_setzero_pd,
-    _mm256_store_pd, _mm256_sub_pd,
+    __m256d, _mm_load_ps, _mm_store_ps, _mm_storeu_pd, _mm256_add_pd, _mm256_broadcast_sd,
+    _mm256_castpd256_pd128, _mm256_cvtpd_ps, _mm256_cvtps_pd, _mm256_extractf128_pd, _mm256_load_pd,
+    _mm256_loadu2_m128d, _mm256_mul_pd, _mm256_setzero_pd, _mm256_store_pd, _mm256_sub_pd,
 };
 
 use rustfft::num_complex::Complex64;
 
-use super::{State, Task};
+use super::{Stored, Task};
 use crate::convolution::ModeSums;
 use crate::history::Entry;
 
 /// [`modes_kernel`](super::modes_kernel) for AVX2: every mode of one task.
 #[target_feature(enable = "avx2,fma")]
-pub(super) fn modes((r, z, g, s, spectra, out): Task<'_>) {
+pub(super) fn modes<S: Stored>((r, z, g, s, spectra, out): Task<'_, S>) {
     let coefficients = z.chunks(r).zip(g.chunks(r));
     for (((o, e), s), (z, g)) in out.iter_mut().zip(spectra).zip(s.chunks_mut(r)).zip(coefficients) {
         mode(z, g, s, e, o);
@@ -32,14 +32,31 @@ pub(super) fn modes((r, z, g, s, spectra, out): Task<'_>) {
 /// its own (no fused multiply-add), the sums started from +0.
 #[inline]
 #[target_feature(enable = "avx2,fma")]
-fn mode(z: &[Complex64], g: &[[Complex64; 3]], s: &mut [State], e: &Entry, o: &mut ModeSums) {
+fn mode<S: Stored>(z: &[Complex64], g: &[[Complex64; 3]], s: &mut [S], e: &Entry, o: &mut ModeSums) {
     let n = z.len().min(g.len()).min(s.len());
     let (z, g, s) = (&z[..n], &g[..n], &mut s[..n]);
     // SAFETY: every pointer below points into a value borrowed for the whole call, each read or
     // write stays inside it (an Entry and a ModeSums are Complex64 fields, each two f64 with
-    // `repr(C)`), and `State` is aligned to 64 bytes, so its four halves of four lanes are
-    // aligned to 32.
+    // `repr(C)`), and a state is `repr(C)` and aligned to 64 bytes: eight f64 real parts then
+    // eight imaginary ones, so its four quarters of four lanes are aligned to 32, or as many f32
+    // if `S::SINGLE`, its quarters then aligned to 16.
     unsafe {
+        // four lanes from `at` (in lanes) of a state, widened to f64 if stored as f32
+        let load = |sp: &S, at: usize| {
+            if S::SINGLE {
+                _mm256_cvtps_pd(_mm_load_ps((sp as *const S as *const f32).add(at)))
+            } else {
+                _mm256_load_pd((sp as *const S as *const f64).add(at))
+            }
+        };
+        // ... stored back, rounded to f32 (to nearest, the default mode) if stored as f32
+        let store = |sp: &mut S, at: usize, v: __m256d| {
+            if S::SINGLE {
+                _mm_store_ps((sp as *mut S as *mut f32).add(at), _mm256_cvtpd_ps(v))
+            } else {
+                _mm256_store_pd((sp as *mut S as *mut f64).add(at), v)
+            }
+        };
         // u lanes 0–3: top x (re, im), bottom x (re, im); lanes 4–7: the same for y
         let f = |c: &Complex64| c as *const Complex64 as *const f64;
         let u_x = _mm256_loadu2_m128d(f(&e.bottom_x), f(&e.top_x));
@@ -52,9 +69,9 @@ fn mode(z: &[Complex64], g: &[[Complex64; 3]], s: &mut [State], e: &Entry, o: &m
         );
         for ((zp, gp), sp) in z.iter().zip(g).zip(s.iter_mut()) {
             let (zr, zi) = (_mm256_broadcast_sd(&zp.re), _mm256_broadcast_sd(&zp.im));
-            let (re, im) = (sp.re.as_mut_ptr(), sp.im.as_mut_ptr());
-            let (re_x, re_y) = (_mm256_load_pd(re), _mm256_load_pd(re.add(4)));
-            let (im_x, im_y) = (_mm256_load_pd(im), _mm256_load_pd(im.add(4)));
+            // real parts at lanes 0–7 of the state, imaginary parts at 8–15
+            let (re_x, re_y) = (load(sp, 0), load(sp, 4));
+            let (im_x, im_y) = (load(sp, 8), load(sp, 12));
             // re ← zr re − zi im + u; im ← zr im + zi re
             let re_x2 = _mm256_add_pd(
                 _mm256_sub_pd(_mm256_mul_pd(zr, re_x), _mm256_mul_pd(zi, im_x)),
@@ -66,11 +83,11 @@ fn mode(z: &[Complex64], g: &[[Complex64; 3]], s: &mut [State], e: &Entry, o: &m
             );
             let im_x2 = _mm256_add_pd(_mm256_mul_pd(zr, im_x), _mm256_mul_pd(zi, re_x));
             let im_y2 = _mm256_add_pd(_mm256_mul_pd(zr, im_y), _mm256_mul_pd(zi, re_y));
-            _mm256_store_pd(re, re_x2);
-            _mm256_store_pd(re.add(4), re_y2);
-            _mm256_store_pd(im, im_x2);
-            _mm256_store_pd(im.add(4), im_y2);
-            // sum += Re(g s) = g.re s.re − g.im s.im
+            store(sp, 0, re_x2);
+            store(sp, 4, re_y2);
+            store(sp, 8, im_x2);
+            store(sp, 12, im_y2);
+            // sum += Re(g s) = g.re s.re − g.im s.im, with the new state before it is stored
             let term = |c: &Complex64, s_re: __m256d, s_im: __m256d| {
                 let (c_re, c_im) = (_mm256_broadcast_sd(&c.re), _mm256_broadcast_sd(&c.im));
                 _mm256_sub_pd(_mm256_mul_pd(c_re, s_re), _mm256_mul_pd(c_im, s_im))

@@ -15,15 +15,16 @@
 
 use std::arch::x86_64::{
     __m128d, __m512d, _mm_loadu_pd, _mm_storeu_pd, _mm256_castpd256_pd128, _mm256_extractf128_pd,
-    _mm256_set_m128d, _mm256_set1_pd, _mm512_add_pd, _mm512_castpd_si512, _mm512_castpd256_pd512,
-    _mm512_castpd512_pd256, _mm512_castsi512_pd, _mm512_insertf64x4, _mm512_load_pd, _mm512_mask_blend_pd,
-    _mm512_mul_pd, _mm512_permute_pd, _mm512_set1_pd, _mm512_setr_epi64, _mm512_setzero_pd,
-    _mm512_shuffle_f64x2, _mm512_store_pd, _mm512_sub_pd, _mm512_xor_si512,
+    _mm256_load_ps, _mm256_set_m128d, _mm256_set1_pd, _mm256_store_ps, _mm512_add_pd, _mm512_castpd_si512,
+    _mm512_castpd256_pd512, _mm512_castpd512_pd256, _mm512_castsi512_pd, _mm512_cvtpd_ps, _mm512_cvtps_pd,
+    _mm512_insertf64x4, _mm512_load_pd, _mm512_mask_blend_pd, _mm512_mul_pd, _mm512_permute_pd,
+    _mm512_set1_pd, _mm512_setr_epi64, _mm512_setzero_pd, _mm512_shuffle_f64x2, _mm512_store_pd,
+    _mm512_sub_pd, _mm512_xor_si512,
 };
 
 use rustfft::num_complex::Complex64;
 
-use super::{Packed, State};
+use super::{Packed, Stored};
 
 /// Sign bits of the real (even) lanes.
 const EVEN: [i64; 8] = [i64::MIN, 0, i64::MIN, 0, i64::MIN, 0, i64::MIN, 0];
@@ -35,7 +36,7 @@ const TOP_PAIRS: [i64; 8] = [i64::MIN, i64::MIN, 0, 0, i64::MIN, i64::MIN, 0, 0]
 /// Every mode of one block: `r` poles a mode, the block's z, g and states, and its place in the
 /// packed transforms.
 #[target_feature(enable = "avx512f,avx2,fma")]
-pub(super) fn modes(r: usize, z: &[Complex64], g: &[[Complex64; 3]], s: &mut [State], p: Packed<'_>) {
+pub(super) fn modes<S: Stored>(r: usize, z: &[Complex64], g: &[[Complex64; 3]], s: &mut [S], p: Packed<'_>) {
     let Packed {
         aj,
         an,
@@ -71,10 +72,10 @@ pub(super) fn modes(r: usize, z: &[Complex64], g: &[[Complex64; 3]], s: &mut [St
 /// the same places out, μk and 2 − η given.
 #[inline]
 #[target_feature(enable = "avx512f,avx2,fma")]
-fn mode(
+fn mode<S: Stored>(
     z: &[Complex64],
     g: &[[Complex64; 3]],
-    s: &mut [State],
+    s: &mut [S],
     [a_j, a_n, b_j, b_n]: [&Complex64; 4],
     muk: f64,
     c: f64,
@@ -82,13 +83,30 @@ fn mode(
     let n = z.len().min(g.len()).min(s.len());
     let (z, g, s) = (&z[..n], &g[..n], &mut s[..n]);
     // SAFETY: every pointer below points into a value borrowed for the whole call; each read or
-    // write stays inside it (a Complex64 is two f64, `repr(C)`), and `State` is aligned to 64
-    // bytes, its real and imaginary halves to 64 each.
+    // write stays inside it (a Complex64 is two f64, `repr(C)`), and a state is `repr(C)` and
+    // aligned to 64 bytes: eight f64 real parts then eight imaginary ones (each half aligned to
+    // 64), or as many f32 if `S::SINGLE` (each half aligned to 32).
     unsafe {
+        // a state's eight real (`half` 0) or imaginary (1) lanes, widened to f64 if stored as f32
+        let load = |sp: &S, half: usize| {
+            if S::SINGLE {
+                _mm512_cvtps_pd(_mm256_load_ps((sp as *const S as *const f32).add(8 * half)))
+            } else {
+                _mm512_load_pd((sp as *const S as *const f64).add(8 * half))
+            }
+        };
+        // ... stored back, rounded to f32 (to nearest, the default mode) if stored as f32
+        let store = |sp: &mut S, half: usize, v: __m512d| {
+            if S::SINGLE {
+                _mm256_store_ps((sp as *mut S as *mut f32).add(8 * half), _mm512_cvtpd_ps(v))
+            } else {
+                _mm512_store_pd((sp as *mut S as *mut f64).add(8 * half), v)
+            }
+        };
         let mask = |m: [i64; 8]| _mm512_setr_epi64(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7]);
         let flip =
             |v: __m512d, m: [i64; 8]| _mm512_castsi512_pd(_mm512_xor_si512(_mm512_castpd_si512(v), mask(m)));
-        let load = |x: &Complex64| _mm_loadu_pd(x as *const Complex64 as *const f64);
+        let load_c = |x: &Complex64| _mm_loadu_pd(x as *const Complex64 as *const f64);
         // each (re, im) pair swapped to (im, re)
         let swap = |v: __m512d| _mm512_permute_pd::<0b0101_0101>(v);
         // the two halves of four lanes exchanged
@@ -99,8 +117,8 @@ fn mode(
         };
 
         // the split (`elastodynamics::split`): with Ā = conj(a_n), x = ½(a_j + Ā), y = (−i/2)(a_j − Ā)
-        let a = twice(load(a_j), load(b_j));
-        let conj_n = flip(twice(load(a_n), load(b_n)), ODD);
+        let a = twice(load_c(a_j), load_c(b_j));
+        let conj_n = flip(twice(load_c(a_n), load_c(b_n)), ODD);
         let x = _mm512_mul_pd(_mm512_set1_pd(0.5), _mm512_add_pd(a, conj_n));
         // (0 − 0.5 i)(d.re + i d.im) = (0 d.re − (−0.5) d.im) + i(0 d.im + (−0.5) d.re)
         let d = _mm512_sub_pd(a, conj_n);
@@ -114,17 +132,17 @@ fn mode(
         // u: lanes 0–3 the x spectra (top, bottom), 4–7 the y spectra
         let u = _mm512_mask_blend_pd(0b1111_0000, x, y);
 
-        // the recursion ([`mode_kernel`](super::mode_kernel)), the sums started from +0
+        // the recursion ([`mode_kernel`](super::mode_kernel)), the sums started from +0 and
+        // taking the new state before it is stored
         let (mut h, mut k) = (_mm512_setzero_pd(), _mm512_setzero_pd());
         for ((zp, gp), sp) in z.iter().zip(g).zip(s.iter_mut()) {
             let (zr, zi) = (_mm512_set1_pd(zp.re), _mm512_set1_pd(zp.im));
-            let (re_p, im_p) = (sp.re.as_mut_ptr(), sp.im.as_mut_ptr());
-            let (re, im) = (_mm512_load_pd(re_p), _mm512_load_pd(im_p));
+            let (re, im) = (load(sp, 0), load(sp, 1));
             // re ← zr re − zi im + u; im ← zr im + zi re
             let re2 = _mm512_add_pd(_mm512_sub_pd(_mm512_mul_pd(zr, re), _mm512_mul_pd(zi, im)), u);
             let im2 = _mm512_add_pd(_mm512_mul_pd(zr, im), _mm512_mul_pd(zi, re));
-            _mm512_store_pd(re_p, re2);
-            _mm512_store_pd(im_p, im2);
+            store(sp, 0, re2);
+            store(sp, 1, im2);
             // sum += Re(g s) = g.re s.re − g.im s.im: g_H11 on the x lanes, g_H22 on the y lanes
             let gh_re = _mm512_insertf64x4::<1>(_mm512_set1_pd(gp[0].re), _mm256_set1_pd(gp[1].re));
             let gh_im = _mm512_insertf64x4::<1>(_mm512_set1_pd(gp[0].im), _mm256_set1_pd(gp[1].im));

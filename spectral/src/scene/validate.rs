@@ -70,7 +70,7 @@ pub(super) fn validate(r: RawScene) -> Result<Scene, SceneError> {
     let n = s.grid_points;
     let cs = halves.map(|(t, b)| t.wave_speeds().cs.max(b.wave_speeds().cs));
     let (length, dx, cfl) = grid_and_step(&mut p, s, cs);
-    let (fast_tolerance, initial_interface) = options(&mut p, s, t_end);
+    let (fast_tolerance, fast_storage, initial_interface) = options(&mut p, s, t_end);
     geometry(&mut p, &r, length, a, initial_interface);
     if let Some((t, b)) = halves {
         well_posed(&mut p, &r, t, b);
@@ -108,6 +108,7 @@ pub(super) fn validate(r: RawScene) -> Result<Scene, SceneError> {
         field_output_interval: s.field_output_interval,
         convolution: s.convolution.unwrap_or(Convolution::Fast),
         fast_tolerance,
+        fast_storage,
         contact: s.contact.unwrap_or(true),
         nucleation: s.nucleation,
         initial_interface,
@@ -326,8 +327,9 @@ fn grid_and_step(
 }
 
 /// The solver's options: the kernel cut-off, t* [s], the output intervals [s] (within the
-/// duration `t_end` [s]), the fast convolution's tolerance [-] and the initial interface.
-fn options(p: &mut Problems, s: &RawSpectral, t_end: f64) -> (f64, InitialInterface) {
+/// duration `t_end` [s]), the fast convolution's tolerance [-] and state storage, and the initial
+/// interface.
+fn options(p: &mut Problems, s: &RawSpectral, t_end: f64) -> (f64, FastStorage, InitialInterface) {
     p.num(
         "spectral.kernel_cutoff",
         s.kernel_cutoff,
@@ -361,6 +363,25 @@ fn options(p: &mut Problems, s: &RawSpectral, t_end: f64) -> (f64, InitialInterf
         (1e-10..=1e-2).contains(&fast_tolerance),
         "[1e-10, 1e-2]",
     );
+    let fast_storage = match s.fast_storage.as_deref().map(|w| (w, FastStorage::from_name(w))) {
+        None => FastStorage::F64,
+        Some((_, Some(storage))) => storage,
+        Some((other, None)) => {
+            p.inconsistent(
+                "spectral.fast_storage",
+                format!("\"{other}\" is not allowed; allowed \"f64\" (default) or \"f32\""),
+            );
+            FastStorage::F64
+        }
+    };
+    if fast_storage != FastStorage::F64 && s.convolution == Some(Convolution::Direct) {
+        p.inconsistent(
+            "spectral.fast_storage",
+            "stores the states of the fast convolution; the direct one (spectral.convolution = \
+             \"direct\") keeps its history in double precision: remove the key or use the fast path"
+                .to_string(),
+        );
+    }
     let initial_interface = match s.initial_interface.as_deref() {
         None | Some("pre_crack") => InitialInterface::PreCrack,
         Some("broken") => InitialInterface::Broken,
@@ -372,7 +393,7 @@ fn options(p: &mut Problems, s: &RawSpectral, t_end: f64) -> (f64, InitialInterf
             InitialInterface::PreCrack
         }
     };
-    (fast_tolerance, initial_interface)
+    (fast_tolerance, fast_storage, initial_interface)
 }
 
 /// The crack against the periodic length X [m] (`length`), and the nucleation patch inside it.

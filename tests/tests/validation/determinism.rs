@@ -147,3 +147,21 @@ fn spectral_output_is_identical_between_runs_and_thread_counts() {
         spectral::write_csv(&out, dir).unwrap();
     });
 }
+
+/// The same scene with the fast path's states kept in single precision
+/// (`spectral.fast_storage = "f32"`).
+#[cfg(feature = "spectral")]
+#[test]
+fn spectral_output_with_single_precision_states_is_identical_between_runs_and_thread_counts() {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/tiny-spectral-andrews.toml"),
+    )
+    .unwrap();
+    let text = text.replacen("[spectral]", "[spectral]\nfast_storage = \"f32\"", 1);
+    let scene = spectral::Scene::from_toml_str(&text).unwrap();
+    assert_eq!(scene.fast_storage, spectral::FastStorage::F32);
+    assert_identical("spectral-f32", |dir| {
+        let out = spectral::run(&scene).unwrap();
+        spectral::write_csv(&out, dir).unwrap();
+    });
+}

@@ -174,6 +174,7 @@ fn params(s: Solid, n: usize, fastest: f64, steps: usize) -> HalfSpaceParams {
         max_steps: steps,
         convolution: Convolution::Direct,
         fast_tolerance: spectral::DEFAULT_FAST_TOLERANCE,
+        fast_storage: spectral::FastStorage::F64,
     }
 }
 

@@ -10,7 +10,7 @@ use std::f64::consts::PI;
 use spectral::law::Impedances;
 use spectral::law::contact::{self, NormalInput};
 use spectral::law::friction::solve_shear;
-use spectral::{Convolution, FaceFields, HalfSpaceParams, HalfSpaces};
+use spectral::{Convolution, FaceFields, FastStorage, HalfSpaceParams, HalfSpaces};
 
 use crate::spectral_common::{eta_035, reference_rows};
 
@@ -28,7 +28,12 @@ pub enum Mode {
 
 /// History of (T, d, w) at the sample points (d at cos kx = 1, w at sin kx = 1), normalised by
 /// 2 τ_0/(μ k); μ = c_s = 1, X = N, β = 0.2, tcut = 100, until T = 20.
-pub fn response(n: usize, mode: Mode, convolution: Convolution) -> Vec<(f64, f64, f64)> {
+pub fn response(
+    n: usize,
+    mode: Mode,
+    convolution: Convolution,
+    fast_storage: FastStorage,
+) -> Vec<(f64, f64, f64)> {
     let (mu, cs, eta, beta) = (1.0, 1.0, eta_035(), 0.2);
     let x_len = n as f64;
     let k = 2.0 * PI / x_len;
@@ -46,6 +51,7 @@ pub fn response(n: usize, mode: Mode, convolution: Convolution) -> Vec<(f64, f64
         max_steps: steps,
         convolution,
         fast_tolerance: spectral::DEFAULT_FAST_TOLERANCE,
+        fast_storage,
     };
     let mut hs = HalfSpaces::new(&p).expect("operator builds");
     let (z, zn) = (mu / cs, eta * mu / cs);
@@ -115,10 +121,16 @@ pub fn at(hist: &[(f64, f64, f64)], t: f64, c: usize) -> f64 {
     pick(a) + (pick(b) - pick(a)) * (t - a.0) / (b.0 - a.0)
 }
 
-/// Max errors (d_II, d_I, w) against the reference tables at N.
+/// Max errors (d_II, d_I, w) against the reference tables at N, the fast path's states stored
+/// in double precision.
 pub fn errors(n: usize, convolution: Convolution) -> [f64; 3] {
-    let h2 = response(n, Mode::II, convolution);
-    let h1 = response(n, Mode::I, convolution);
+    errors_stored(n, convolution, FastStorage::F64)
+}
+
+/// [`errors`] with the fast path's states stored as `fast_storage` says.
+pub fn errors_stored(n: usize, convolution: Convolution, fast_storage: FastStorage) -> [f64; 3] {
+    let h2 = response(n, Mode::II, convolution, fast_storage);
+    let h1 = response(n, Mode::I, convolution, fast_storage);
     let (mut e2, mut e1, mut ew) = (0.0f64, 0.0f64, 0.0f64);
     for r in reference_rows("spectral-single-mode-nu035.csv") {
         e2 = e2.max((at(&h2, r[0], 1) - r[1]).abs());
