@@ -27,12 +27,18 @@ fn bench_scene(c: &mut Criterion, name: &str, file: &str) {
 fn bench_built(c: &mut Criterion, name: &str, scene: &fem::Scene) {
     let (model, mut state, mut ws) = fem::build(scene).unwrap();
     let warm = (0.46 * scene.duration() / model.time_step()) as usize;
-    for _ in 0..warm {
-        fem::solver::central_difference::step(&model, &mut state, &mut ws, false).unwrap();
-    }
     let mut g = c.benchmark_group("step");
     g.throughput(Throughput::Elements(model.num_elements() as u64));
+    // advanced to 0.46 T the first time criterion runs the routine: a mesh the filter leaves out
+    // is built (a second or so) but not advanced (most of a minute)
+    let mut warmed = false;
     g.bench_function(name, |b| {
+        if !warmed {
+            for _ in 0..warm {
+                fem::solver::central_difference::step(&model, &mut state, &mut ws, false).unwrap();
+            }
+            warmed = true;
+        }
         b.iter_custom(|iters| {
             time_on_pool(iters, || {
                 fem::solver::central_difference::step(&model, &mut state, &mut ws, false).unwrap()
