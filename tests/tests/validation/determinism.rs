@@ -137,15 +137,8 @@ fn run_through_insertion(scene: &fem::Scene, dir: &Path) {
 #[cfg(feature = "spectral")]
 #[test]
 fn spectral_output_is_identical_between_runs_and_thread_counts() {
-    let text = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/tiny-spectral-andrews.toml"),
-    )
-    .unwrap();
-    let scene = spectral::Scene::from_toml_str(&text).unwrap();
-    assert_identical("spectral", |dir| {
-        let out = spectral::run(&scene).unwrap();
-        spectral::write_csv(&out, dir).unwrap();
-    });
+    let text = validation::scene_text("tiny-spectral-andrews");
+    spectral_output_identical("spectral", &text, spectral::FastStorage::F64);
 }
 
 /// The same scene with the fast path's states kept in single precision
@@ -153,14 +146,21 @@ fn spectral_output_is_identical_between_runs_and_thread_counts() {
 #[cfg(feature = "spectral")]
 #[test]
 fn spectral_output_with_single_precision_states_is_identical_between_runs_and_thread_counts() {
-    let text = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/tiny-spectral-andrews.toml"),
-    )
-    .unwrap();
-    let text = text.replacen("[spectral]", "[spectral]\nfast_storage = \"f32\"", 1);
-    let scene = spectral::Scene::from_toml_str(&text).unwrap();
-    assert_eq!(scene.fast_storage, spectral::FastStorage::F32);
-    assert_identical("spectral-f32", |dir| {
+    let text = validation::scene_text("tiny-spectral-andrews").replacen(
+        "[spectral]",
+        "[spectral]\nfast_storage = \"f32\"",
+        1,
+    );
+    spectral_output_identical("spectral-f32", &text, spectral::FastStorage::F32);
+}
+
+/// [`assert_identical`] on the spectral run of the scene `text`, whose fast path keeps its states
+/// as `storage` says.
+#[cfg(feature = "spectral")]
+fn spectral_output_identical(name: &str, text: &str, storage: spectral::FastStorage) {
+    let scene = spectral::Scene::from_toml_str(text).unwrap();
+    assert_eq!(scene.fast_storage, storage, "the scene's storage");
+    assert_identical(name, |dir| {
         let out = spectral::run(&scene).unwrap();
         spectral::write_csv(&out, dir).unwrap();
     });
