@@ -9,7 +9,7 @@ use crate::history::Entry;
 use crate::kernels::Kernels;
 use crate::modes::Modes;
 use crate::output::{ContactMeanRecord, FieldRecord, TipRecord};
-use crate::scene::{Convolution, FastStorage, Scene};
+use crate::scene::{Convolution, Scene};
 use crate::soe::SoeFit;
 use preflight::budget::bytes_of;
 use preflight::{Estimate, Part};
@@ -19,16 +19,6 @@ use std::mem::size_of;
 /// Measured peak resident memory of the centre crack minus the process's baseline and the fast
 /// convolution: about 430 B per point at N = 16 384 and 65 536 (docs/outputs.md); rounded up.
 const BYTES_PER_POINT: usize = 512;
-
-/// Bytes per mode and exponential term of the fast convolution: coefficient z (16), weights g
-/// (48), recursion state (128 in double precision, 64 in single: `spectral.fast_storage`) [B].
-fn fast_bytes_per_term(storage: FastStorage) -> usize {
-    16 + 48
-        + match storage {
-            FastStorage::F64 => 128,
-            FastStorage::F32 => 64,
-        }
-}
 
 /// Wall time per grid point and step of the fast path on 2 cores [s]. Measured on the centre
 /// crack (`compare sweep`): 6.8e-8 at N = 2048, 7.6e-8 at 4096, 7.2e-8 at 8192.
@@ -88,7 +78,7 @@ pub fn estimate(scene: &Scene) -> Result<Estimate, BuildError> {
                 what: format!("convolution ({terms} exponential terms per mode)"),
                 bytes: bytes_of(
                     (n / 2 + 1) as f64 * poles,
-                    fast_bytes_per_term(scene.fast_storage),
+                    crate::fast::bytes_per_pole(scene.fast_storage),
                 ),
                 key: "spectral.grid_points",
             };

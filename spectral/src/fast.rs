@@ -66,14 +66,6 @@ impl States {
         }
     }
 
-    /// Bytes of one state [B].
-    fn state_bytes(&self) -> usize {
-        match self {
-            States::F64(_) => std::mem::size_of::<State>(),
-            States::F32(_) => std::mem::size_of::<State32>(),
-        }
-    }
-
     fn storage(&self) -> FastStorage {
         match self {
             States::F64(_) => FastStorage::F64,
@@ -88,6 +80,20 @@ impl States {
             States::F32(s) => StatesMut::F32(&mut s[at]),
         }
     }
+}
+
+/// Bytes of one state in `storage` [B].
+fn state_bytes(storage: FastStorage) -> usize {
+    match storage {
+        FastStorage::F64 => std::mem::size_of::<State>(),
+        FastStorage::F32 => std::mem::size_of::<State32>(),
+    }
+}
+
+/// Bytes the recursion holds per mode and pole, its states in `storage`: z (16), g (48) and the
+/// state (128 in f64, 64 in f32) [B].
+pub(crate) fn bytes_per_pole(storage: FastStorage) -> usize {
+    std::mem::size_of::<Complex64>() + std::mem::size_of::<[Complex64; 3]>() + state_bytes(storage)
 }
 
 /// The states of a block of modes, in either storage.
@@ -380,7 +386,7 @@ impl FastConvolution {
 
     /// Bytes of coefficients and states touched per step [B].
     pub fn bytes(&self) -> usize {
-        self.z.len() * 16 + self.g.len() * 48 + self.s.len() * self.s.state_bytes()
+        self.s.len() * bytes_per_pole(self.s.storage())
     }
 
     /// Work of the recursion over one step (docs/spectral-model.md §4.3): per mode
@@ -390,10 +396,11 @@ impl FastConvolution {
     pub fn work(&self) -> Work {
         let modes = (self.s.len() / self.r.max(1)).saturating_sub(1) as f64;
         let poles = modes * self.r as f64;
-        let state = self.s.state_bytes() as f64;
+        let storage = self.s.storage();
+        let state = state_bytes(storage) as f64;
         Work {
             flops: poles * FLOPS_PER_POLE,
-            read: modes * std::mem::size_of::<Entry>() as f64 + poles * (16.0 + 48.0 + state),
+            read: modes * std::mem::size_of::<Entry>() as f64 + poles * bytes_per_pole(storage) as f64,
             written: modes * std::mem::size_of::<ModeSums>() as f64 + poles * state,
         }
     }
