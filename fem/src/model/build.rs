@@ -3,6 +3,7 @@
 use crate::contact::{ContactParams, ContactState, ContactWorkspace, DetectionSurface};
 use crate::error::BuildError;
 use crate::law::cohesive::{ClosingTreatment, CohesiveState, LinearCohesive};
+use crate::law::elastic::PlaneStrain;
 use crate::mesh::interfaces::{FacetKind, InterfaceRow, NO_JUNCTION, column_tied, tie_junction};
 use crate::mesh::nearest_node;
 use crate::mesh::structured::{Grid, GridSpec};
@@ -423,8 +424,11 @@ fn grid_element_material(scene: &Scene, grid: &Grid) -> Vec<u8> {
         .collect()
 }
 
-/// Stiffness (one K_e per element, each with its own material's D) and row-sum lumped masses
-/// [kg/m] (each element with its own density) of a grid of several materials.
+/// Stiffness and row-sum lumped masses [kg/m] (each element with its own density) of a grid of
+/// several materials: one shared K_e a material when the elements are translates of one another
+/// and no layer touches element rows of two materials (the split at the twinned row), so that
+/// the grid keeps its stencils and the one-pass sweep; else one K_e per element, each with its own
+/// material's D.
 fn split_bulk(
     scene: &Scene,
     grid: &Grid,
@@ -432,12 +436,41 @@ fn split_bulk(
 ) -> Result<(Stiffness, Vec<f64>), BuildError> {
     let materials = scene.materials();
     let d: Vec<_> = materials.iter().map(|m| m.d_matrix()).collect();
+    let mass = split_masses(grid, element_material, &materials);
+    let nx = grid.nx;
+    let row_kind: Option<Vec<u8>> = (0..grid.ny)
+        .map(|r| {
+            let kind = element_material[r * nx];
+            element_material[r * nx..(r + 1) * nx]
+                .iter()
+                .all(|&k| k == kind)
+                .then_some(kind)
+        })
+        .collect();
+    if let Some(row_kind) = row_kind.filter(|_| translates(grid)) {
+        let kinds = d
+            .iter()
+            .map(|d| {
+                bulk::stiffness(&grid.element_coords(0), d)
+                    .map_err(|det_j| BuildError::InvertedElement { element: 0, det_j })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        if let Some(k) = Stiffness::by_row(grid, &kinds, row_kind) {
+            return Ok((k, mass));
+        }
+    }
     let ke = (0..grid.num_elements())
         .map(|e| {
             bulk::stiffness(&grid.element_coords(e), &d[element_material[e] as usize])
                 .map_err(|det_j| BuildError::InvertedElement { element: e, det_j })
         })
         .collect::<Result<Vec<_>, _>>()?;
+    Ok((Stiffness::PerElement(ke), mass))
+}
+
+/// Row-sum lumped nodal masses [kg/m] of a grid whose element e has density
+/// `materials[element_material[e]]`.
+fn split_masses(grid: &Grid, element_material: &[u8], materials: &[PlaneStrain]) -> Vec<f64> {
     let mut mass = vec![0.0; grid.num_nodes()];
     for e in 0..grid.num_elements() {
         let m = bulk::lumped_mass(
@@ -448,7 +481,17 @@ fn split_bulk(
             mass[*n as usize] += m[k];
         }
     }
-    Ok((Stiffness::PerElement(ke), mass))
+    mass
+}
+
+/// Whether every element of the grid is a translate of element 0 (to 1e-9 of its diagonal).
+fn translates(grid: &Grid) -> bool {
+    let c0 = grid.element_coords(0);
+    let tol = 1e-9 * (c0[2] - c0[0]).norm();
+    (0..grid.num_elements()).all(|e| {
+        let c = grid.element_coords(e);
+        (0..4).all(|k| ((c[k] - c[0]) - (c0[k] - c0[0])).norm() <= tol)
+    })
 }
 
 /// Row-sum lumped nodal masses [kg/m].
@@ -500,11 +543,7 @@ fn workspace(model: &Model) -> Workspace {
 /// element has vertical sides and the same width (mapped meshes); else one K_e per element.
 fn stiffness(grid: &Grid, d: &[[f64; 3]; 3]) -> Result<Stiffness, BuildError> {
     let c0 = grid.element_coords(0);
-    let tol = 1e-9 * (c0[2] - c0[0]).norm();
-    let same = (0..grid.num_elements()).all(|e| {
-        let c = grid.element_coords(e);
-        (0..4).all(|k| ((c[k] - c[0]) - (c0[k] - c0[0])).norm() <= tol)
-    });
+    let same = translates(grid);
     let k_of = |e: usize| {
         bulk::stiffness(&grid.element_coords(e), d)
             .map_err(|det_j| BuildError::InvertedElement { element: e, det_j })

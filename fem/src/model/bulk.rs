@@ -12,11 +12,15 @@ pub(crate) use crate::model::stencil::Ke;
 pub(crate) const GAUSS_SIGNS: [(f64, f64); 4] = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
 const CORNERS: [(f64, f64); 4] = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
 
-/// Stiffness storage: one shared K_e for identical rectangles, one per element otherwise.
+/// Stiffness storage: one shared K_e for identical rectangles (one a material where each element
+/// row has one), on-the-fly forces on mapped meshes, one K_e per element otherwise.
 #[derive(Debug, Clone)]
 pub(crate) enum Stiffness {
     /// All elements share this matrix; its interior-node stencil is built once with it.
     Shared(Box<SharedKe>),
+    /// Identical rectangles of several materials, each element row of one, and no layer touching
+    /// rows of two (the grid split at its twinned row): one shared K_e and stencil a material.
+    ByRow(Box<RowKe>),
     /// One matrix per element.
     PerElement(Vec<Ke>),
     /// Vertical-sided elements of a mapped mesh: forces computed on the fly (`model::mapped`).
@@ -30,19 +34,69 @@ pub(crate) struct SharedKe {
     pub(crate) stencil: Stencil,
 }
 
+/// The shared K_e of each material of a grid whose element rows each take one material.
+#[derive(Debug, Clone)]
+pub(crate) struct RowKe {
+    /// One shared K_e [N/m] and its stencil per material.
+    kinds: Vec<SharedKe>,
+    /// The index into `kinds` of each element row, bottom to top.
+    row_kind: Vec<u8>,
+    /// Elements per row.
+    nx: usize,
+}
+
+impl SharedKe {
+    fn new(ke: Ke) -> SharedKe {
+        SharedKe {
+            stencil: Stencil::new(&ke),
+            ke,
+        }
+    }
+}
+
 impl Stiffness {
     /// One K_e for every element, with its stencil.
     pub(crate) fn shared(ke: Ke) -> Stiffness {
-        Stiffness::Shared(Box::new(SharedKe {
-            stencil: Stencil::new(&ke),
-            ke,
-        }))
+        Stiffness::Shared(Box::new(SharedKe::new(ke)))
+    }
+
+    /// One K_e a material (`kinds`) on a grid of `grid.nx` elements a row whose element row r takes
+    /// `kinds[row_kind[r]]`; `None` when a layer touches element rows of two materials (the
+    /// caller then keeps one K_e per element) or an index is out of range.
+    pub(crate) fn by_row(grid: &Grid, kinds: &[Ke], row_kind: Vec<u8>) -> Option<Stiffness> {
+        let ok = row_kind.len() == grid.ny
+            && row_kind.iter().all(|&k| (k as usize) < kinds.len())
+            && (0..grid.layer_side.len()).all(|l| match grid.layer_element_rows(l) {
+                (Some(b), Some(a)) => row_kind[b] == row_kind[a],
+                _ => true,
+            });
+        ok.then(|| {
+            Stiffness::ByRow(Box::new(RowKe {
+                kinds: kinds.iter().map(|&k| SharedKe::new(k)).collect(),
+                row_kind,
+                nx: grid.nx,
+            }))
+        })
+    }
+
+    /// The stencil of a layer whose element rows below and above are `below`, `above` (of one
+    /// material, by [`Stiffness::by_row`]), where the elements share a K_e a material.
+    pub(crate) fn stencil(&self, below: Option<usize>, above: Option<usize>) -> Option<&Stencil> {
+        match self {
+            Stiffness::Shared(k) => Some(&k.stencil),
+            Stiffness::ByRow(k) => {
+                let kind = above.or(below).map_or(0, |r| k.row_kind[r] as usize);
+                Some(&k.kinds[kind].stencil)
+            }
+            Stiffness::PerElement(_) | Stiffness::Mapped(_) => None,
+        }
     }
 
     #[inline]
     fn get(&self, e: usize) -> &Ke {
         match self {
             Stiffness::Shared(k) => &k.ke,
+            Stiffness::ByRow(k) => &k.kinds[k.row_kind[e / k.nx] as usize].ke,
             Stiffness::PerElement(v) => &v[e],
             Stiffness::Mapped(_) => unreachable!("invariant: mapped meshes never read K_e"),
         }
@@ -168,19 +222,18 @@ pub(crate) fn extrapolate(sig: &[[f64; 4]; 3], xi: f64, eta: f64) -> [f64; 3] {
 /// f = −f_int(u) for every node (overwrites `f`), gathering per node from the ≤ 4 adjacent
 /// elements: f_a −= Σ_e K_e[a-rows] u_e. Parallel over layers; each task writes only its own
 /// layer, so there is no race and the result does not depend on the number of threads. With a
-/// shared K_e the interior nodes of a layer use the precomputed stencil ([`Stencil`]).
+/// shared K_e (one a material, [`Stiffness::ByRow`]) the nodes of a layer use the precomputed stencil
+/// ([`Stencil`]).
 pub(crate) fn internal_forces(grid: &Grid, k: &Stiffness, u: &[Vector2<f64>], f: &mut [Vector2<f64>]) {
     let nx = grid.nx;
     let w = nx + 1;
-    let stencil = match k {
-        Stiffness::Shared(k) => Some(&k.stencil),
-        Stiffness::PerElement(_) => None,
-        Stiffness::Mapped(m) => return crate::model::mapped::internal_forces(grid, m, u, f),
-    };
+    if let Stiffness::Mapped(m) = k {
+        return crate::model::mapped::internal_forces(grid, m, u, f);
+    }
     let flat: &[f64] = bytemuck::cast_slice(u);
     f.par_chunks_mut(w).enumerate().for_each(|(layer, fl)| {
         let (below, above) = grid.layer_element_rows(layer);
-        match stencil {
+        match k.stencil(below, above) {
             Some(st) if nx >= 2 => {
                 let row = |l: usize| &flat[2 * l * w..2 * (l + 1) * w];
                 st.layer(
@@ -322,6 +375,50 @@ mod tests {
                     "nx = {nx}: {a} vs {b}"
                 );
             }
+        }
+    }
+
+    /// Two materials split at the twinned row (lower rows stiff, upper rows soft): the stencil a
+    /// material against the element-by-element gather of each element's own K_e, 1e-12 relative
+    /// as above. Fails if a layer takes the other material's stencil (the two K_e differ by a
+    /// factor 3). A split elsewhere, where one layer touches both materials, gives `None`.
+    #[test]
+    fn stencil_a_material_equals_per_element_path() {
+        use crate::mesh::structured::GridSpec;
+        for nx in [2, 7, 8] {
+            let grid = Grid::new(&GridSpec {
+                x_range: [0.0, nx as f64],
+                y_range: [-2.0, 2.0],
+                nx,
+                ny: 4,
+                twinned_row: Some(2),
+                upper_shift: 0.0,
+                row_map: None,
+            });
+            let c = grid.element_coords(0);
+            let kinds = [210e6, 70e6].map(|e| {
+                let d = crate::law::elastic::PlaneStrain::new(e, 0.3, 1000.0).d_matrix();
+                stiffness(&c, &d).unwrap()
+            });
+            let rows = vec![0u8, 0, 1, 1];
+            let per_element: Vec<Ke> = (0..grid.num_elements())
+                .map(|e| kinds[rows[e / nx] as usize])
+                .collect();
+            let by_row = Stiffness::by_row(&grid, &kinds, rows).expect("split at the twinned row");
+            assert!(matches!(by_row, Stiffness::ByRow(_)));
+            let u: Vec<Vector2<f64>> = (0..grid.num_nodes())
+                .map(|n| Vector2::new((n as f64 * 0.37).sin(), (n as f64 * 0.11).cos()) * 1e-3)
+                .collect();
+            let (mut f1, mut f2) = (vec![Vector2::zeros(); u.len()], vec![Vector2::zeros(); u.len()]);
+            internal_forces(&grid, &by_row, &u, &mut f1);
+            internal_forces(&grid, &Stiffness::PerElement(per_element), &u, &mut f2);
+            for (a, b) in f1.iter().zip(&f2) {
+                assert!(
+                    (a - b).norm() <= 1e-12 * b.norm().max(1.0),
+                    "nx = {nx}: {a} vs {b}"
+                );
+            }
+            assert!(Stiffness::by_row(&grid, &kinds, vec![0, 1, 1, 1]).is_none());
         }
     }
 

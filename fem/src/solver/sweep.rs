@@ -18,15 +18,15 @@ use crate::model::bulk::Stiffness;
 use crate::model::layers::{BAND, SweepBuffers};
 use crate::model::mapped::{self, MappedStiffness};
 use crate::model::state::{BulkMesh, Model};
-use crate::model::stencil::Stencil;
 use crate::solver::node::{Span, advance_all};
 use nalgebra::Vector2;
 use rayon::prelude::*;
 
 /// Forces of every layer into `f` (all of a deferred layer, the edge nodes of the others) and
 /// the advance of the interior nodes of the other layers; returns the largest |v_{n+1}|² among
-/// them (∞ if one is not finite). `None` when the mesh is neither a grid with a shared stencil nor a
-/// mapped grid (a Gmsh mesh, a grid of two materials): the caller then runs the separate passes.
+/// them (∞ if one is not finite). `None` when the mesh is neither a grid with shared stencils (one
+/// K_e, or one a material row by row) nor a mapped grid (a Gmsh mesh, a mapped grid of two
+/// materials): the caller then runs the separate passes.
 pub(crate) fn forces_and_advance(
     model: &Model,
     u: &mut [Vector2<f64>],
@@ -39,7 +39,7 @@ pub(crate) fn forces_and_advance(
         return None;
     };
     let kernel = match stiffness {
-        Stiffness::Shared(shared) => Kernel::Stencil(&shared.stencil),
+        Stiffness::Shared(_) | Stiffness::ByRow(_) => Kernel::Stencil(stiffness),
         Stiffness::Mapped(mapped) => Kernel::Mapped(mapped),
         Stiffness::PerElement(_) => return None,
     };
@@ -94,8 +94,9 @@ pub(crate) fn forces_and_advance(
 /// How a layer's forces are computed.
 #[derive(Clone, Copy)]
 enum Kernel<'a> {
-    /// One shared K_e: the 9-point stencil of every interior node.
-    Stencil(&'a Stencil),
+    /// One shared K_e, or one a material with each element row of one: the 9-point stencil of
+    /// every interior node, the layer's material's ([`Stiffness::stencil`]).
+    Stencil(&'a Stiffness),
     /// Vertical-sided elements: each element row's forces on the fly (`model::mapped`), computed
     /// once and shared by its two layers.
     Mapped(&'a MappedStiffness),
@@ -157,7 +158,10 @@ impl Band<'_> {
                 let hi = above.map(|_| layer(j + 1));
                 debug_assert!(j + 1 < self.layers || hi.is_none());
                 let forces = |out: &mut [f64], rows: &mut [f64]| match self.kernel {
-                    Kernel::Stencil(stencil) => stencil.layer(lo, layer(j), hi, out),
+                    Kernel::Stencil(k) => k
+                        .stencil(below, above)
+                        .expect("invariant: Kernel::Stencil holds a stiffness with stencils")
+                        .layer(lo, layer(j), hi, out),
                     Kernel::Mapped(k) => {
                         // the element row above layer j is computed here and kept for layer
                         // j + 1; the one below was kept by layer j − 1 (computed again only at
