@@ -339,28 +339,47 @@ mod tests {
         assert!(stiffness(&bad, &d).is_err());
     }
 
+    /// A grid of `nx` × 4 unit elements twinned at row 2.
+    fn twinned_grid(nx: usize) -> Grid {
+        Grid::new(&crate::mesh::structured::GridSpec {
+            x_range: [0.0, nx as f64],
+            y_range: [-2.0, 2.0],
+            nx,
+            ny: 4,
+            twinned_row: Some(2),
+            upper_shift: 0.0,
+            row_map: None,
+        })
+    }
+
+    /// A displacement [m] that differs at every node.
+    fn wavy_u(grid: &Grid) -> Vec<Vector2<f64>> {
+        (0..grid.num_nodes())
+            .map(|n| Vector2::new((n as f64 * 0.37).sin(), (n as f64 * 0.11).cos()) * 1e-3)
+            .collect()
+    }
+
+    /// 1e-12 relative: the two paths sum the same products in a different order.
+    fn assert_same_forces(f1: &[Vector2<f64>], f2: &[Vector2<f64>], nx: usize) {
+        for (a, b) in f1.iter().zip(f2) {
+            assert!(
+                (a - b).norm() <= 1e-12 * b.norm().max(1.0),
+                "nx = {nx}: {a} vs {b}"
+            );
+        }
+    }
+
     /// The stencil (vector lanes, node groups and the one-node tail) against the element-by-element
     /// gather, on widths that leave every possible tail after groups of 2 and 4 nodes, and on
     /// layers with element rows on both sides, below only (under the twinned row) and above only.
     /// 1e-12 relative: the two sum the same products in a different order.
     #[test]
     fn shared_stencil_equals_per_element_path() {
-        use crate::mesh::structured::GridSpec;
         for nx in [2, 5, 6, 7, 8, 13] {
-            let grid = Grid::new(&GridSpec {
-                x_range: [0.0, nx as f64],
-                y_range: [-2.0, 2.0],
-                nx,
-                ny: 4,
-                twinned_row: Some(2),
-                upper_shift: 0.0,
-                row_map: None,
-            });
+            let grid = twinned_grid(nx);
             let d = crate::law::elastic::PlaneStrain::new(70e6, 0.35, 1230.0).d_matrix();
             let k = stiffness(&grid.element_coords(0), &d).unwrap();
-            let u: Vec<Vector2<f64>> = (0..grid.num_nodes())
-                .map(|n| Vector2::new((n as f64 * 0.37).sin(), (n as f64 * 0.11).cos()) * 1e-3)
-                .collect();
+            let u = wavy_u(&grid);
             let (mut f1, mut f2) = (vec![Vector2::zeros(); u.len()], vec![Vector2::zeros(); u.len()]);
             internal_forces(&grid, &Stiffness::shared(k), &u, &mut f1);
             internal_forces(
@@ -369,12 +388,7 @@ mod tests {
                 &u,
                 &mut f2,
             );
-            for (a, b) in f1.iter().zip(&f2) {
-                assert!(
-                    (a - b).norm() <= 1e-12 * b.norm().max(1.0),
-                    "nx = {nx}: {a} vs {b}"
-                );
-            }
+            assert_same_forces(&f1, &f2, nx);
         }
     }
 
@@ -384,17 +398,8 @@ mod tests {
     /// factor 3). A split elsewhere, where one layer touches both materials, gives `None`.
     #[test]
     fn stencil_a_material_equals_per_element_path() {
-        use crate::mesh::structured::GridSpec;
         for nx in [2, 7, 8] {
-            let grid = Grid::new(&GridSpec {
-                x_range: [0.0, nx as f64],
-                y_range: [-2.0, 2.0],
-                nx,
-                ny: 4,
-                twinned_row: Some(2),
-                upper_shift: 0.0,
-                row_map: None,
-            });
+            let grid = twinned_grid(nx);
             let c = grid.element_coords(0);
             let kinds = [210e6, 70e6].map(|e| {
                 let d = crate::law::elastic::PlaneStrain::new(e, 0.3, 1000.0).d_matrix();
@@ -406,18 +411,11 @@ mod tests {
                 .collect();
             let by_row = Stiffness::by_row(&grid, &kinds, rows).expect("split at the twinned row");
             assert!(matches!(by_row, Stiffness::ByRow(_)));
-            let u: Vec<Vector2<f64>> = (0..grid.num_nodes())
-                .map(|n| Vector2::new((n as f64 * 0.37).sin(), (n as f64 * 0.11).cos()) * 1e-3)
-                .collect();
+            let u = wavy_u(&grid);
             let (mut f1, mut f2) = (vec![Vector2::zeros(); u.len()], vec![Vector2::zeros(); u.len()]);
             internal_forces(&grid, &by_row, &u, &mut f1);
             internal_forces(&grid, &Stiffness::PerElement(per_element), &u, &mut f2);
-            for (a, b) in f1.iter().zip(&f2) {
-                assert!(
-                    (a - b).norm() <= 1e-12 * b.norm().max(1.0),
-                    "nx = {nx}: {a} vs {b}"
-                );
-            }
+            assert_same_forces(&f1, &f2, nx);
             assert!(Stiffness::by_row(&grid, &kinds, vec![0, 1, 1, 1]).is_none());
         }
     }
