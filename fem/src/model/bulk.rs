@@ -31,7 +31,7 @@ pub(crate) enum Stiffness {
 #[derive(Debug, Clone)]
 pub(crate) struct SharedKe {
     ke: Ke,
-    pub(crate) stencil: Stencil,
+    stencil: Stencil,
 }
 
 /// The shared K_e of each material of a grid whose element rows each take one material.
