@@ -6,13 +6,14 @@
 //! rule and the same discrete operator as K_e u_e, checked to round-off by a test).
 //!
 //! The elements of a row are computed in blocks of W consecutive elements, one lane each: W = 8,
-//! one AVX-512 register a quantity, where the CPU has AVX-512F, else W = 4, one AVX2 register, or
-//! the portable build (the AVX-512 and AVX2 builds written in intrinsics, `avx512` and `avx2`,
-//! from one macro, `intrinsics`). The width is chosen once,
-//! when the stiffness is built, and the shapes are stored in blocks of that width, so that
-//! either reads them contiguously. Every lane takes
-//! the same IEEE operations in the same order (no fused multiply-add), so the bits do not depend
-//! on the lane, the width or the CPU. The one-pass sweep of
+//! one AVX-512 register a quantity, where the CPU has AVX-512F, else W = 4, one AVX2 register
+//! (with FMA), or the portable build (the AVX-512 and AVX2 builds written in intrinsics, `avx512`
+//! and `avx2`, from one macro, `intrinsics`). The width is chosen once, when the stiffness is
+//! built, and the shapes are stored in blocks of that width, so that either reads them
+//! contiguously. Every lane takes the same IEEE operations in the same order, each fused
+//! multiply-add rounded once whether an instruction or the library computes it
+//! (`f64::mul_add`), so the bits do not depend on the lane, the width or the CPU. The one-pass
+//! sweep of
 //! unsampled steps (`solver::sweep`) computes each element row once ([`row_forces`]) and sums it
 //! into its two layers ([`layer_from_rows`]) in the order of the separate force pass
 //! ([`internal_forces`]), so both give the same bits (docs/performance.md, "Mapped meshes").
@@ -83,12 +84,14 @@ impl Width {
     }
 
     /// Whether the CPU has the instructions of this width's build: AVX-512F for eight lanes,
-    /// AVX2 for four.
+    /// AVX2 and FMA for four.
     fn runs_here(self) -> bool {
         #[cfg(target_arch = "x86_64")]
         return match self {
             Width::Eight => std::arch::is_x86_feature_detected!("avx512f"),
-            Width::Four => std::arch::is_x86_feature_detected!("avx2"),
+            Width::Four => {
+                std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+            }
         };
         #[cfg(not(target_arch = "x86_64"))]
         false
@@ -117,7 +120,7 @@ pub(crate) struct MappedStiffness {
     nx: usize,
     /// Gauss constants, by blocks.
     blocks: Blocks,
-    /// Whether the CPU runs the instructions of the blocks' width: AVX2 for four lanes,
+    /// Whether the CPU runs the instructions of the blocks' width: AVX2 and FMA for four lanes,
     /// AVX-512F for eight (checked once, at build); else the portable build runs them.
     simd: bool,
 }
@@ -252,6 +255,21 @@ lane_op!(Add, add, +);
 lane_op!(Sub, sub, -);
 lane_op!(Mul, mul, *);
 
+impl<const W: usize> Lanes<W> {
+    /// self·b + c, lane by lane, rounded once (fused multiply-add: the same bits on every CPU,
+    /// whether an instruction or the library computes it).
+    #[inline(always)]
+    fn mul_add(self, b: Lanes<W>, c: Lanes<W>) -> Lanes<W> {
+        Lanes(std::array::from_fn(|q| self.0[q].mul_add(b.0[q], c.0[q])))
+    }
+
+    /// c − self·b, lane by lane, rounded once.
+    #[inline(always)]
+    fn neg_mul_add(self, b: Lanes<W>, c: Lanes<W>) -> Lanes<W> {
+        Lanes(std::array::from_fn(|q| (-self.0[q]).mul_add(b.0[q], c.0[q])))
+    }
+}
+
 impl<const W: usize> std::ops::Neg for Lanes<W> {
     type Output = Lanes<W>;
     #[inline(always)]
@@ -289,8 +307,10 @@ impl Elasticity {
 /// differences U_ξ(η) = ¼[(1−η)(u₁−u₀) + (1+η)(u₂−u₃)] and U_η(ξ) = ¼[(1−ξ)(u₃−u₀) + (1+ξ)(u₂−u₁)]:
 /// ∂u/∂y = U_η / y_η (a function of ξ alone), ∂u/∂x = (U_ξ − y_ξ ∂u/∂y)/x_ξ, σ = D ε, and Bᵀσ
 /// det J (det J = x_ξ y_η) is N_a,ξ P + N_a,η Q with P = y_η (σ_xx, σ_xy), Q = x_ξ (σ_xy, σ_yy) −
-/// y_ξ (σ_xx, σ_xy); the sums over Gauss points are gathered per edge before the scatter (about
-/// 170 flops per element).
+/// y_ξ (σ_xx, σ_xy); the sums over Gauss points are gathered per edge before the scatter. A
+/// product added to a sum is one fused multiply-add (one rounding), so the kernel takes about 120
+/// operations an element where separate products and sums took about 170 (docs/performance.md,
+/// "The mapped kernel with fused multiply-adds").
 #[inline(always)]
 fn block_forces<const W: usize>(
     s: &Shapes<W>,
@@ -303,9 +323,11 @@ fn block_forces<const W: usize>(
     let (w0, w1) = (0.25 * (1.0 + g), 0.25 * (1.0 - g)); // ¼(1 ∓ (∓g)): weight of the near / far edge
     let (db, dt) = (ue[1] - ue[0], ue[2] - ue[3]);
     let (dl, dr) = (ue[3] - ue[0], ue[2] - ue[1]);
+    // w·a + w'·b: w'·b rounded, w·a added to it fused
+    let weigh = |w: f64, a: V<W>, w2: f64, b: V<W>| a.mul_add(Lanes([w; W]), w2 * b);
     // index 0: η (or ξ) = −g, index 1: +g
-    let u_xi = [w0 * db + w1 * dt, w1 * db + w0 * dt];
-    let u_eta = [w0 * dl + w1 * dr, w1 * dl + w0 * dr];
+    let u_xi = [weigh(w0, db, w1, dt), weigh(w1, db, w0, dt)];
+    let u_eta = [weigh(w0, dl, w1, dr), weigh(w1, dl, w0, dr)];
     let du_dy = [u_eta[0] * Lanes(s.inv_y_eta[0]), u_eta[1] * Lanes(s.inv_y_eta[1])];
     let zero = Lanes([0.0; W]);
     let mut p_sum = [V { x: zero, y: zero }; 2];
@@ -314,25 +336,23 @@ fn block_forces<const W: usize>(
         let y_xi = Lanes(s.y_xi[je]);
         for ix in 0..2 {
             let dy = du_dy[ix];
-            let dx = (u_xi[je] - dy * y_xi) * Lanes([inv_x_xi; W]);
+            let dx = dy.neg_mul_add(y_xi, u_xi[je]) * Lanes([inv_x_xi; W]);
             let (e0, e1, e2) = (dx.x, dy.y, dy.x + dx.y);
-            let sxx = d.d00 * e0 + d.d01 * e1;
-            let syy = d.d10 * e0 + d.d11 * e1;
+            let sxx = e0.mul_add(Lanes([d.d00; W]), d.d01 * e1);
+            let syy = e0.mul_add(Lanes([d.d10; W]), d.d11 * e1);
             let sxy = d.d22 * e2;
             let y_eta = Lanes(s.y_eta[ix]);
-            p_sum[je] = p_sum[je] + V { x: sxx, y: sxy } * y_eta;
-            q_sum[ix] = q_sum[ix]
-                + V {
-                    x: x_xi * sxy - y_xi * sxx,
-                    y: x_xi * syy - y_xi * sxy,
-                };
+            p_sum[je] = V { x: sxx, y: sxy }.mul_add(y_eta, p_sum[je]);
+            // (Q + x_ξ (σ_xy, σ_yy)) − y_ξ (σ_xx, σ_xy), each product fused
+            let q = V { x: sxy, y: syy }.mul_add(Lanes([x_xi; W]), q_sum[ix]);
+            q_sum[ix] = V { x: sxx, y: sxy }.neg_mul_add(y_xi, q);
         }
     }
     // N_a,ξ = ¼ ξ_a (1 + η η_a), N_a,η = ¼ η_a (1 + ξ ξ_a)
-    let pb = w0 * p_sum[0] + w1 * p_sum[1];
-    let pt = w1 * p_sum[0] + w0 * p_sum[1];
-    let ql = w0 * q_sum[0] + w1 * q_sum[1];
-    let qr = w1 * q_sum[0] + w0 * q_sum[1];
+    let pb = weigh(w0, p_sum[0], w1, p_sum[1]);
+    let pt = weigh(w1, p_sum[0], w0, p_sum[1]);
+    let ql = weigh(w0, q_sum[0], w1, q_sum[1]);
+    let qr = weigh(w1, q_sum[0], w0, q_sum[1]);
     [-pb - ql, pb - qr, pt + qr, -pt + ql]
 }
 
@@ -394,6 +414,26 @@ impl<const W: usize> std::ops::Mul<V<W>> for f64 {
         V {
             x: self * v.x,
             y: self * v.y,
+        }
+    }
+}
+
+impl<const W: usize> V<W> {
+    /// self·a + c, each component fused ([`Lanes::mul_add`]).
+    #[inline(always)]
+    fn mul_add(self, a: Lanes<W>, c: V<W>) -> V<W> {
+        V {
+            x: self.x.mul_add(a, c.x),
+            y: self.y.mul_add(a, c.y),
+        }
+    }
+
+    /// c − self·a, each component fused ([`Lanes::neg_mul_add`]).
+    #[inline(always)]
+    fn neg_mul_add(self, a: Lanes<W>, c: V<W>) -> V<W> {
+        V {
+            x: self.x.neg_mul_add(a, c.x),
+            y: self.y.neg_mul_add(a, c.y),
         }
     }
 }
@@ -467,8 +507,8 @@ fn segment_forces(k: &MappedStiffness, segment: &Segment<'_>, out: &mut [f64]) {
         Blocks::Four(blocks) => {
             #[cfg(target_arch = "x86_64")]
             if k.simd {
-                // SAFETY: `simd` is true for four lanes only if the CPU reported AVX2 at run time
-                // (`MappedStiffness::with_width`).
+                // SAFETY: `simd` is true for four lanes only if the CPU reported AVX2 and FMA at
+                // run time (`MappedStiffness::with_width`).
                 return unsafe { avx2::segment(k, blocks, segment, out) };
             }
             segment_portable(k, blocks, segment, out)

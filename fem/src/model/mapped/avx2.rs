@@ -1,4 +1,4 @@
-//! The mapped kernel's four-lane build, written in AVX2 intrinsics (`kernel_in!`, module
+//! The mapped kernel's four-lane build, written in AVX2 and FMA intrinsics (`kernel_in!`, module
 //! `intrinsics`): the operations of [`block_forces`](super::block_forces), lane by lane and in the
 //! same order, so the bits are the portable build's (test
 //! `every_lane_gives_the_bits_of_its_element_alone`). Left to the compiler, the lane code kept its
@@ -7,13 +7,13 @@
 //! intrinsics").
 
 use std::arch::x86_64::{
-    __m256d, _mm256_add_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_permute4x64_pd, _mm256_set1_pd,
-    _mm256_setzero_pd, _mm256_storeu_pd, _mm256_sub_pd, _mm256_unpackhi_pd, _mm256_unpacklo_pd,
-    _mm256_xor_pd,
+    __m256d, _mm256_add_pd, _mm256_fmadd_pd, _mm256_fnmadd_pd, _mm256_loadu_pd, _mm256_mul_pd,
+    _mm256_permute4x64_pd, _mm256_set1_pd, _mm256_setzero_pd, _mm256_storeu_pd, _mm256_sub_pd,
+    _mm256_unpackhi_pd, _mm256_unpacklo_pd, _mm256_xor_pd,
 };
 
 kernel_in! {
-    feature: "avx2",
+    feature: "avx2,fma",
     lanes: 4,
     register: __m256d,
     // four blocks of four elements: three cache lines of shapes each
@@ -25,6 +25,8 @@ kernel_in! {
     add: _mm256_add_pd,
     sub: _mm256_sub_pd,
     mul: _mm256_mul_pd,
+    fmadd: _mm256_fmadd_pd,
+    fnmadd: _mm256_fnmadd_pd,
 }
 
 /// Nodes 0..4 and nodes 1..=4 of a block, from its five nodes' x, y pairs (ten values) [m]: the

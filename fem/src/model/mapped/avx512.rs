@@ -6,9 +6,9 @@
 //! (docs/performance.md, "Every mesh kind side by side", its fifth machine).
 
 use std::arch::x86_64::{
-    __m512d, _mm512_add_pd, _mm512_castpd_si512, _mm512_castsi512_pd, _mm512_loadu_pd, _mm512_mul_pd,
-    _mm512_permutex2var_pd, _mm512_set1_epi64, _mm512_set1_pd, _mm512_setr_epi64, _mm512_setzero_pd,
-    _mm512_storeu_pd, _mm512_sub_pd, _mm512_xor_si512,
+    __m512d, _mm512_add_pd, _mm512_castpd_si512, _mm512_castsi512_pd, _mm512_fmadd_pd, _mm512_fnmadd_pd,
+    _mm512_loadu_pd, _mm512_mul_pd, _mm512_permutex2var_pd, _mm512_set1_epi64, _mm512_set1_pd,
+    _mm512_setr_epi64, _mm512_setzero_pd, _mm512_storeu_pd, _mm512_sub_pd, _mm512_xor_si512,
 };
 
 kernel_in! {
@@ -27,6 +27,8 @@ kernel_in! {
     add: _mm512_add_pd,
     sub: _mm512_sub_pd,
     mul: _mm512_mul_pd,
+    fmadd: _mm512_fmadd_pd,
+    fnmadd: _mm512_fnmadd_pd,
 }
 
 /// Nodes 0..8 and nodes 1..=8 of a block, from its nine nodes' x, y pairs (eighteen values) [m]:

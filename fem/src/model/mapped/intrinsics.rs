@@ -19,7 +19,9 @@ macro_rules! kernel_in {
         store: $store:ident,
         add: $add:ident,
         sub: $sub:ident,
-        mul: $mul:ident $(,)?
+        mul: $mul:ident,
+        fmadd: $fmadd:ident,
+        fnmadd: $fnmadd:ident $(,)?
     ) => {
         /// A vector quantity of one lane an element: x and y lanes.
         #[derive(Clone, Copy)]
@@ -101,21 +103,24 @@ macro_rules! kernel_in {
 
         /// [`block_forces`](super::block_forces) on this width: the same operations on the same
         /// operands in the same order (a product's operands may swap: IEEE multiplication and
-        /// addition are commutative), the sums over Gauss points started from +0 as there.
+        /// addition are commutative, and so is the product of a fused multiply-add), the fused
+        /// ones fused, the sums over Gauss points started from +0 as there.
         #[inline]
         #[target_feature(enable = $feature)]
         fn block_forces(s: &super::Shapes<$w>, c: &Constants, ue: [P; 4]) -> [P; 4] {
             // SAFETY: each array of `s` holds W f64; the loads are unaligned.
             let load = |v: &[f64; $w]| unsafe { $load(v.as_ptr()) };
             let (add, sub, mul) = ($add, $sub, $mul);
+            // a·b + c and c − a·b, rounded once
+            let (fmadd, fnmadd) = ($fmadd, $fnmadd);
             let diff = |a: P, b: P| P {
                 x: sub(a.x, b.x),
                 y: sub(a.y, b.y),
             };
-            // w·a + w'·b, per component
+            // w·a + w'·b, per component: w'·b rounded, w·a added to it fused
             let weigh = |w: $reg, a: P, w2: $reg, b: P| P {
-                x: add(mul(w, a.x), mul(w2, b.x)),
-                y: add(mul(w, a.y), mul(w2, b.y)),
+                x: fmadd(a.x, w, mul(w2, b.x)),
+                y: fmadd(a.y, w, mul(w2, b.y)),
             };
             let (db, dt) = (diff(ue[1], ue[0]), diff(ue[2], ue[3]));
             let (dl, dr) = (diff(ue[3], ue[0]), diff(ue[2], ue[1]));
@@ -139,21 +144,21 @@ macro_rules! kernel_in {
                 for ix in 0..2 {
                     let dy = du_dy[ix];
                     let dx = P {
-                        x: mul(sub(u_xi[je].x, mul(dy.x, y_xi)), c.inv_x_xi),
-                        y: mul(sub(u_xi[je].y, mul(dy.y, y_xi)), c.inv_x_xi),
+                        x: mul(fnmadd(dy.x, y_xi, u_xi[je].x), c.inv_x_xi),
+                        y: mul(fnmadd(dy.y, y_xi, u_xi[je].y), c.inv_x_xi),
                     };
                     let (e0, e1, e2) = (dx.x, dy.y, add(dy.x, dx.y));
-                    let sxx = add(mul(c.d00, e0), mul(c.d01, e1));
-                    let syy = add(mul(c.d10, e0), mul(c.d11, e1));
+                    let sxx = fmadd(e0, c.d00, mul(c.d01, e1));
+                    let syy = fmadd(e0, c.d10, mul(c.d11, e1));
                     let sxy = mul(c.d22, e2);
                     let y_eta = load(&s.y_eta[ix]);
                     p_sum[je] = P {
-                        x: add(p_sum[je].x, mul(sxx, y_eta)),
-                        y: add(p_sum[je].y, mul(sxy, y_eta)),
+                        x: fmadd(sxx, y_eta, p_sum[je].x),
+                        y: fmadd(sxy, y_eta, p_sum[je].y),
                     };
                     q_sum[ix] = P {
-                        x: add(q_sum[ix].x, sub(mul(c.x_xi, sxy), mul(y_xi, sxx))),
-                        y: add(q_sum[ix].y, sub(mul(c.x_xi, syy), mul(y_xi, sxy))),
+                        x: fnmadd(sxx, y_xi, fmadd(sxy, c.x_xi, q_sum[ix].x)),
+                        y: fnmadd(sxy, y_xi, fmadd(syy, c.x_xi, q_sum[ix].y)),
                     };
                 }
             }
