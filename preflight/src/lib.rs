@@ -11,6 +11,7 @@
 //! - [`ended`]: how a run ended (reached T, unstable, stopped on request), in one form for both
 //!   models' command lines and the harness;
 //! - [`profile`]: the table of where a run's time went, printed by both models' commands;
+//! - [`pool`] (feature `pool`): rayon's pool kept awake while a run steps;
 //! - [`stop`], [`options`] and [`command`] (feature `cli`): Ctrl-C and SIGTERM stop a run at its
 //!   next step; the command-line options every command shares; the checks and last line the two
 //!   models' commands share around their run.
@@ -26,6 +27,8 @@ pub mod input;
 #[cfg(feature = "cli")]
 pub mod options;
 pub mod paths;
+#[cfg(feature = "pool")]
+pub mod pool;
 pub mod profile;
 pub mod save;
 #[cfg(feature = "cli")]

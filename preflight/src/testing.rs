@@ -14,10 +14,12 @@ use std::time::{Duration, Instant};
 /// `iter_custom`. Both models run their time steps inside `rayon::scope`, so that each parallel
 /// loop of a step splits its work through the worker's own queue; called from any other thread
 /// (criterion's), every such loop would instead be handed to the pool while the caller sleeps
-/// until it ends, a cost the runs never pay. The results are black-boxed, as criterion's
-/// `iter` does.
+/// until it ends, a cost the runs never pay. As in a run, the calls run on a pool of their own
+/// whose other workers are kept awake ([`crate::pool::Steps`]), one pool for the whole process.
+/// The results are black-boxed, as criterion's `iter` does.
 pub fn time_on_pool<R>(iters: u64, mut routine: impl FnMut() -> R + Send) -> Duration {
-    rayon::scope(|_| {
+    static STEPS: std::sync::OnceLock<crate::pool::Steps> = std::sync::OnceLock::new();
+    STEPS.get_or_init(crate::pool::Steps::new).run(|| {
         let start = Instant::now();
         for _ in 0..iters {
             std::hint::black_box(routine());

@@ -136,11 +136,13 @@ pub fn run_checkpointed(
         }
     }
     let mut done = state.step;
+    let pool = preflight::pool::Steps::new();
     while done < total {
         let end = (done + report).min(total);
         // The steps run inside a rayon scope, i.e. on a pool thread: parallel loops then use the
-        // worker's own deque instead of injecting jobs from outside (which allocates).
-        let failed = rayon::scope(|_| {
+        // worker's own deque instead of injecting jobs from outside (which allocates); the pool's
+        // other workers wait for them awake, not asleep (`preflight::pool`).
+        let failed = pool.run(|| {
             for n in done + 1..=end {
                 let record = n % every == 0 || n == total;
                 // A step whose state is read after it (by the records, a snapshot, or the end of
