@@ -13,7 +13,7 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use fem::gmsh::{BulkElement, ElementKind, UnstructuredMesh};
 use fem::model::unstructured::{BulkMaterial, UnstructuredBulk};
 use fem::nalgebra::Vector2;
-use preflight::testing::time_on_pool;
+use preflight::testing::time_on_awake_pool;
 
 /// A smooth, non-trivial displacement field of n nodes [m].
 fn displacements(n: usize) -> Vec<Vector2<f64>> {
@@ -33,7 +33,7 @@ fn bench_scene(c: &mut Criterion, name: &str, scene: &str) {
     let mut g = c.benchmark_group("bulk_forces");
     g.throughput(Throughput::Elements(model.num_elements() as u64));
     g.bench_function(name, |b| {
-        b.iter_custom(|iters| time_on_pool(iters, || fem::probe::bulk_forces(&model, &u, &mut f)))
+        b.iter_custom(|iters| time_on_awake_pool(iters, || fem::probe::bulk_forces(&model, &u, &mut f)))
     });
     // On a mapped mesh, its kernel alone on one thread: the element forces of every row into one
     // row buffer, neither summed into the nodes nor zeroed, against the multiplies it must do
@@ -42,7 +42,7 @@ fn bench_scene(c: &mut Criterion, name: &str, scene: &str) {
     if fem::probe::mapped_element_forces(&model, &u, &mut row).is_some() {
         g.bench_function(format!("{name}_kernel_alone"), |b| {
             b.iter_custom(|iters| {
-                time_on_pool(iters, || fem::probe::mapped_element_forces(&model, &u, &mut row))
+                time_on_awake_pool(iters, || fem::probe::mapped_element_forces(&model, &u, &mut row))
             })
         });
     }
@@ -122,7 +122,7 @@ fn bench_unstructured(
     let mut g = c.benchmark_group("bulk_forces");
     g.throughput(Throughput::Elements(mesh.elements.len() as u64));
     g.bench_function(name, |b| {
-        b.iter_custom(|iters| time_on_pool(iters, || bulk.internal_forces(&u, &mut f)))
+        b.iter_custom(|iters| time_on_awake_pool(iters, || bulk.internal_forces(&u, &mut f)))
     });
     g.finish();
 }

@@ -17,7 +17,7 @@
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use fem::profile::PhaseTime;
-use preflight::testing::time_on_pool;
+use preflight::testing::time_on_awake_pool;
 
 /// Element size [m] and interface width [m]: 5 000 segments a face.
 const H: f64 = 1e-4;
@@ -109,7 +109,7 @@ fn bench_height(c: &mut Criterion, rows: usize) {
             let (before, steps_before) = (ws.profile(), state.step_count());
             (model, state, ws, before, steps_before)
         });
-        b.iter_custom(|iters| time_on_pool(iters, || fem::step(model, state, ws, false).unwrap()))
+        b.iter_custom(|iters| time_on_awake_pool(iters, || fem::step(model, state, ws, false).unwrap()))
     });
     g.finish();
     let Some((model, state, ws, before, steps_before)) = built else {

@@ -15,7 +15,7 @@
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use nalgebra::Vector2;
-use preflight::testing::time_on_pool;
+use preflight::testing::time_on_awake_pool;
 use std::hint::black_box;
 
 #[path = "../src/contact/mod.rs"]
@@ -100,7 +100,7 @@ fn bench_faces(
     group.throughput(Throughput::Elements(slaves));
     group.bench_function(name, |b| {
         b.iter_custom(|iters| {
-            time_on_pool(iters, || {
+            time_on_awake_pool(iters, || {
                 sign = -sign;
                 for p in &mut x[upper..] {
                     p.x += sign * 1e-6;

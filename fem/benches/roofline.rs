@@ -22,7 +22,7 @@
 //! count), 0.7 flop/B: far below any machine's balance, so its bound is the bandwidth.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use preflight::testing::time_on_pool;
+use preflight::testing::time_on_awake_pool;
 use rayon::prelude::*;
 use std::hint::black_box;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -245,7 +245,7 @@ fn bench_triad(c: &mut Criterion) {
         for (label, threads) in [("one_thread", false), ("all_threads", true)] {
             g.bench_function(format!("triad_{name}_{label}"), |bch| {
                 bch.iter_custom(|iters| {
-                    time_on_pool(iters, || triad(&mut a, &b, &cc, black_box(3.0), threads))
+                    time_on_awake_pool(iters, || triad(&mut a, &b, &cc, black_box(3.0), threads))
                 })
             });
         }

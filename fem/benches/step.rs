@@ -13,7 +13,7 @@
 //! sampled.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use preflight::testing::time_on_pool;
+use preflight::testing::time_on_awake_pool;
 
 fn scene_path(file: &str) -> String {
     format!("{}/../scenes/{file}", env!("CARGO_MANIFEST_DIR"))
@@ -40,7 +40,7 @@ fn bench_built(c: &mut Criterion, name: &str, scene: &fem::Scene) {
             warmed = true;
         }
         b.iter_custom(|iters| {
-            time_on_pool(iters, || {
+            time_on_awake_pool(iters, || {
                 fem::solver::central_difference::step(&model, &mut state, &mut ws, false).unwrap()
             })
         })

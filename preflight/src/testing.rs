@@ -3,7 +3,7 @@
 //! input before any time step — non-zero exit, nothing on stdout (every command prints its plan
 //! only once its checks have passed), no output folder — and a clock for benchmarks that runs
 //! the models' parallel code where their runs do, on a thread of rayon's pool
-//! ([`time_on_pool`]).
+//! ([`time_on_pool`], [`time_on_awake_pool`]).
 
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
@@ -11,21 +11,31 @@ use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 /// The time `iters` calls of `routine` take on a thread of rayon's global pool, for criterion's
-/// `iter_custom`. Both models run their time steps inside `rayon::scope`, so that each parallel
-/// loop of a step splits its work through the worker's own queue; called from any other thread
-/// (criterion's), every such loop would instead be handed to the pool while the caller sleeps
-/// until it ends, a cost the runs never pay. As in a run, the calls run on a pool of their own
-/// whose other workers are kept awake ([`crate::pool::Steps`]), one pool for the whole process.
-/// The results are black-boxed, as criterion's `iter` does.
-pub fn time_on_pool<R>(iters: u64, mut routine: impl FnMut() -> R + Send) -> Duration {
+/// `iter_custom`, as the spectral model's runs call their steps. Both models run their time steps
+/// on a pool thread, so that each parallel loop of a step splits its work through the worker's
+/// own queue; called from any other thread (criterion's), every such loop would instead be handed
+/// to the pool while the caller sleeps until it ends, a cost the runs never pay. The results are
+/// black-boxed, as criterion's `iter` does.
+pub fn time_on_pool<R>(iters: u64, routine: impl FnMut() -> R + Send) -> Duration {
+    rayon::scope(|_| timed(iters, routine))
+}
+
+/// [`time_on_pool`] as the FE model's runs call their steps: on a pool of their own whose other
+/// workers are kept awake ([`crate::pool::Steps`]), one pool for the whole process.
+pub fn time_on_awake_pool<R>(iters: u64, routine: impl FnMut() -> R + Send) -> Duration {
     static STEPS: std::sync::OnceLock<crate::pool::Steps> = std::sync::OnceLock::new();
-    STEPS.get_or_init(crate::pool::Steps::new).run(|| {
-        let start = Instant::now();
-        for _ in 0..iters {
-            std::hint::black_box(routine());
-        }
-        start.elapsed()
-    })
+    STEPS
+        .get_or_init(crate::pool::Steps::new)
+        .run(|| timed(iters, routine))
+}
+
+/// The time of `iters` calls of `routine`, their results black-boxed.
+fn timed<R>(iters: u64, mut routine: impl FnMut() -> R) -> Duration {
+    let start = Instant::now();
+    for _ in 0..iters {
+        std::hint::black_box(routine());
+    }
+    start.elapsed()
 }
 
 /// The text of `scenes/<name>.toml` of the workspace whose member lives at `manifest_dir`.
