@@ -2,16 +2,10 @@
 //! sleeps after a few dozen looks, and the next parallel loop wakes it through the kernel: under
 //! a hypervisor that wake is an interrupt sent to another virtual CPU, and a time step, with serial
 //! phases between its parallel loops, paid it at nearly every loop (docs/performance.md, "The
-//! pool kept awake"). [`Steps`] runs them on a pool of their own whose other workers keep looking
-//! for work, yielding their cores to any other thread between looks, until the steps end.
+//! pool kept awake"). [`Steps`] runs a run's steps on a pool of their own whose other workers keep
+//! looking for work, yielding their cores to any other thread between looks, until the steps end.
 
-use std::cell::Cell;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-
-thread_local! {
-    /// Whether this thread is a looker of [`with_lookers`] already.
-    static LOOKING: Cell<bool> = const { Cell::new(false) };
-}
 
 /// A rayon pool for a run's steps, of as many threads as the caller's pool (rayon's global pool,
 /// or the pool the caller runs on), built once for the whole run: none on one thread, or if it
@@ -50,43 +44,33 @@ impl Default for Steps {
     }
 }
 
-/// `steps` run once by [`Steps::run`] on a pool of their own.
-pub fn awake<R: Send>(steps: impl FnOnce() -> R + Send) -> R {
-    Steps::new().run(steps)
-}
-
 /// `steps` on this worker, every other worker of its pool a looker until they end: a job that
 /// executes whatever work the pool has, and yields its core when there is none. Also gives how
 /// many workers looked.
 fn with_lookers<R: Send>(steps: impl FnOnce() -> R + Send) -> (R, usize) {
     let lookers = rayon::current_num_threads().saturating_sub(1);
     let (done, settled, looked) = (AtomicBool::new(false), AtomicUsize::new(0), AtomicUsize::new(0));
-    let look = || {
-        if rayon::yield_now() != Some(rayon::Yield::Executed) {
-            std::thread::yield_now();
-        }
-    };
     let out = rayon::scope(|s| {
         let home = rayon::current_thread_index();
         for _ in 0..lookers {
             let (done, settled, looked) = (&done, &settled, &looked);
             s.spawn(move |_| {
                 settled.fetch_add(1, Ordering::AcqRel);
-                // on the thread that runs the steps, or on one that looks already: nothing to
-                // keep awake
-                if rayon::current_thread_index() == home || LOOKING.get() {
+                // on the thread that runs the steps (which the wait below keeps from happening):
+                // nothing to keep awake
+                if rayon::current_thread_index() == home {
                     return;
                 }
-                LOOKING.set(true);
                 looked.fetch_add(1, Ordering::AcqRel);
                 // the other lookers left to the other workers first
                 while settled.load(Ordering::Acquire) < lookers {
                     std::thread::yield_now();
                 }
                 while !done.load(Ordering::Acquire) {
-                    look();
+                    if rayon::yield_now() != Some(rayon::Yield::Executed) {
+                        std::thread::yield_now();
+                    }
                 }
-                LOOKING.set(false);
             });
         }
         // Every looker taken up by another worker before the steps give the pool work: a looker
@@ -113,6 +97,11 @@ fn with_lookers<R: Send>(steps: impl FnOnce() -> R + Send) -> (R, usize) {
 mod tests {
     use super::*;
     use rayon::prelude::*;
+
+    /// `steps` on a pool of their own, built for them.
+    fn awake<R: Send>(steps: impl FnOnce() -> R + Send) -> R {
+        Steps::new().run(steps)
+    }
 
     /// Steps whose parallel loops nest joins: their sum with the lookers beside them, on pools of
     /// one to four threads, from inside a pool and from outside, nested, and from two callers at
