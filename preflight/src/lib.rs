@@ -11,7 +11,8 @@
 //! - [`ended`]: how a run ended (reached T, unstable, stopped on request), in one form for both
 //!   models' command lines and the harness;
 //! - [`profile`]: the table of where a run's time went, printed by both models' commands;
-//! - [`pool`] (feature `pool`): rayon's pool kept awake while a run steps;
+//! - [`pool`] (feature `pool`): a run's own rayon pool, its other workers kept awake while the
+//!   steps run (the FE model's runs);
 //! - [`stop`], [`options`] and [`command`] (feature `cli`): Ctrl-C and SIGTERM stop a run at its
 //!   next step; the command-line options every command shares; the checks and last line the two
 //!   models' commands share around their run.

@@ -13,9 +13,8 @@
 //! contiguously. Every lane takes the same IEEE operations in the same order, each fused
 //! multiply-add rounded once whether an instruction or the library computes it
 //! (`f64::mul_add`), so the bits do not depend on the lane, the width or the CPU. The one-pass
-//! sweep of
-//! unsampled steps (`solver::sweep`) computes each element row once ([`row_forces`]) and sums it
-//! into its two layers ([`layer_from_rows`]) in the order of the separate force pass
+//! sweep of unsampled steps (`solver::sweep`) computes each element row once ([`row_forces`]) and
+//! sums it into its two layers ([`layer_from_rows`]) in the order of the separate force pass
 //! ([`internal_forces`]), so both give the same bits (docs/performance.md, "Mapped meshes").
 
 #[cfg(target_arch = "x86_64")]
