@@ -185,8 +185,6 @@ pub struct UnstructuredBulk {
     /// Smallest transit time h_e/c_d,e over the elements [s] (see
     /// [`UnstructuredBulk::min_transit_time`]).
     min_transit: f64,
-    /// Tiles one rayon task runs in a row, about 1/8 of the tiles.
-    tiles_per_task: usize,
 }
 
 impl UnstructuredBulk {
@@ -232,7 +230,6 @@ impl UnstructuredBulk {
         let blocks: Vec<[f64; 4]> = pairs.iter().map(|p| p.2).collect();
         drop(pairs);
         let (tiles, in_start, in_edge) = tiles_and_incoming(nn, &edge_start, &other);
-        let tiles_per_task = (tiles.len() / 8).max(1);
         Ok(Self {
             work: Work::new(if order.is_empty() { 0 } else { nn }),
             order,
@@ -246,7 +243,6 @@ impl UnstructuredBulk {
             mass,
             h_min,
             min_transit,
-            tiles_per_task,
         })
     }
 
@@ -334,17 +330,14 @@ impl UnstructuredBulk {
             });
     }
 
-    /// The tiles `tiles`, whose nodes are those of `f`, split in halves across rayon tasks.
+    /// The tiles `tiles`, whose nodes are those of `f`, split in halves across rayon tasks down
+    /// to one tile a task. Beside the contact detection, which holds one thread for a while, the
+    /// other thread then finds a tile's worth of work to steal, not a quarter of the mesh's, and
+    /// the two finish close together (docs/performance.md, "One tile a task").
     fn run(&self, tiles: &[[u32; 2]], u: &[[f64; 2]], f: &mut [[f64; 2]]) {
         match tiles {
             [] => {}
-            _ if tiles.len() <= self.tiles_per_task => {
-                let first = tiles[0][0];
-                for t in tiles {
-                    let nodes = (t[0] - first) as usize..(t[1] - first) as usize;
-                    self.tile(*t, u, &mut f[nodes]);
-                }
-            }
+            [t] => self.tile(*t, u, f),
             _ => {
                 let mid = tiles.len() / 2;
                 let split = (tiles[mid][0] - tiles[0][0]) as usize;
