@@ -332,8 +332,8 @@ impl UnstructuredBulk {
 
     /// The tiles `tiles`, whose nodes are those of `f`, split in halves across rayon tasks down
     /// to one tile a task. Beside the contact detection, which holds one thread for a while, the
-    /// other thread then finds a tile's worth of work to steal, not a quarter of the mesh's, and
-    /// the two finish close together (docs/performance.md, "One tile a task").
+    /// thread that comes free then takes a tile's worth of work, not half of the mesh's, and the
+    /// two finish close together (docs/performance.md, "One tile a task").
     fn run(&self, tiles: &[[u32; 2]], u: &[[f64; 2]], f: &mut [[f64; 2]]) {
         match tiles {
             [] => {}
