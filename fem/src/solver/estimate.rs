@@ -23,6 +23,20 @@ const BYTES_PER_ELEMENT: usize = 256;
 /// 1 mm (7.7 s), 3.7e-9 at 0.5 mm (46.8 s); rounded up.
 const SECONDS_PER_ELEMENT_STEP: f64 = 5e-9;
 
+/// Memory of the model per element of a Gmsh mesh (`[fem.mesh]`) [B]: the mesh as read and
+/// prepared, the edge kernel's blocks, the element operators of the interface and the state.
+/// Measured peak resident memory minus the process's baseline, T shortened to a few samples: 695 B
+/// on `scenes/center-crack-tri.toml` (43 138 triangles), 877 B on `scenes/three-point-bend.toml`
+/// (9 882 triangles); rounded up (docs/outputs.md, "Budgets").
+const GMSH_BYTES_PER_ELEMENT: usize = 1024;
+
+/// Wall time per element and step on 2 cores on a Gmsh mesh (`[fem.mesh]`), contact and cohesive
+/// work included [s]: `scenes/center-crack-tri.toml` (37 947 steps, 43 138 triangles) ran in
+/// 6.0–6.9 s (3.7–4.2e-9) on the third machine and 9.8 s (6.0e-9) on the seventh of
+/// docs/performance.md; `scenes/three-point-bend.toml` (553 882 steps, 9 882 triangles, whose
+/// steps carry more than their elements) in 44 s (8.0e-9, docs/results.md); rounded up.
+const GMSH_SECONDS_PER_ELEMENT_STEP: f64 = 1e-8;
+
 /// The same on a mesh mapped onto an interface polyline (`fem.interface_polyline` or a sine
 /// interface: every element its own shape, its forces computed on the fly in the one-pass sweep)
 /// [s]: 2.9e-8 was measured on the sinusoidal interface (750 × 250, 14 632 steps, 80 s on 2
@@ -62,17 +76,12 @@ const FIELD_FILE_BYTES: [f64; 2] = [205.0, 480.0];
 /// without `[fem.paraview]`.
 pub fn field_files(scene: &Scene) -> Option<(u64, u64)> {
     let p = scene.fem.paraview?;
-    let (nx, ny) = elements(scene);
+    let (bulk, facets) = bulk_and_facets(scene);
     let dt = scene.time_step();
     let count = p.count(dt, (scene.duration() / dt).ceil() as u64);
-    let row = if scene.interface.is_some() || scene.crack.is_some() {
-        nx
-    } else {
-        0.0
-    };
     Some((
         count,
-        (FIELD_FILE_BYTES[0] * nx * ny + FIELD_FILE_BYTES[1] * row) as u64,
+        (FIELD_FILE_BYTES[0] * bulk + FIELD_FILE_BYTES[1] * facets) as u64,
     ))
 }
 
@@ -99,6 +108,23 @@ fn far_field_steps(scene: &Scene) -> f64 {
     ((b - a) / scene.time_step()).ceil()
 }
 
+/// The bulk elements and the facets of the interface row: a Gmsh mesh's own (its `[fem]` form
+/// holds its bounding box and the mean facet of its interface, whose grid would count a graded
+/// mesh's elements many times over), else the grid's.
+fn bulk_and_facets(scene: &Scene) -> (f64, f64) {
+    match &scene.fem.mesh {
+        Some(m) => (
+            m.prepared.mesh.elements.len() as f64,
+            m.prepared.row.as_ref().map_or(0, |r| r.num_facets()) as f64,
+        ),
+        None => {
+            let (nx, ny) = elements(scene);
+            let interface = scene.interface.is_some() || scene.crack.is_some();
+            (nx * ny, if interface { nx } else { 0.0 })
+        }
+    }
+}
+
 /// Elements along x and y.
 fn elements(scene: &Scene) -> (f64, f64) {
     let f = &scene.fem;
@@ -113,7 +139,9 @@ fn elements(scene: &Scene) -> (f64, f64) {
 pub fn estimate(scene: &Scene) -> Estimate {
     let f = &scene.fem;
     let h = f.element_size;
-    let per_element_step = if scene.bottom_material.is_some() {
+    let per_element_step = if f.mesh.is_some() {
+        GMSH_SECONDS_PER_ELEMENT_STEP
+    } else if scene.bottom_material.is_some() {
         PER_ELEMENT_SECONDS_PER_ELEMENT_STEP
     } else if f.interface_polyline.is_some() {
         MAPPED_SECONDS_PER_ELEMENT_STEP
@@ -125,10 +153,15 @@ pub fn estimate(scene: &Scene) -> Estimate {
     let steps_f = (scene.duration() / dt).ceil();
     let every = (f.output_interval / dt).round().max(1.0);
     let samples = (steps_f / every).floor() + 2.0;
-    let interface = scene.interface.is_some() || scene.crack.is_some();
+    let (bulk, facets) = bulk_and_facets(scene);
+    let bytes_per_element = if f.mesh.is_some() {
+        GMSH_BYTES_PER_ELEMENT
+    } else {
+        BYTES_PER_ELEMENT
+    };
     // per sample: damage at 2 Gauss points per facet, face tractions per node of the row
-    let row = if interface {
-        2.0 * nx * size_of::<InterfaceRecord>() as f64 + (nx + 1.0) * size_of::<FaceRecord>() as f64
+    let row = if facets > 0.0 {
+        2.0 * facets * size_of::<InterfaceRecord>() as f64 + (facets + 1.0) * size_of::<FaceRecord>() as f64
     } else {
         0.0
     };
@@ -136,7 +169,7 @@ pub fn estimate(scene: &Scene) -> Estimate {
     // one crack record per chain (one on the grid)
     let chains = match &f.mesh {
         Some(m) => m.prepared.row.as_ref().map_or(0, |r| r.num_chains()),
-        None => usize::from(interface),
+        None => usize::from(scene.interface.is_some() || scene.crack.is_some()),
     };
     let per_sample = row
         + (size_of::<TipRecord>() + size_of::<EnergyRecord>() + size_of::<ContactMeanRecord>()) as f64
@@ -152,10 +185,12 @@ pub fn estimate(scene: &Scene) -> Estimate {
             0.0
         };
     let [[x0, x1], [y0, y1]] = d.snapshot_window;
-    let window_elements = ((x1 - x0).max(0.0) / h).ceil().min(nx) * ((y1 - y0).max(0.0) / h).ceil().min(ny);
+    let window_elements =
+        (((x1 - x0).max(0.0) / h).ceil().min(nx) * ((y1 - y0).max(0.0) / h).ceil().min(ny)).min(bulk);
+    // one profile row per node of the interface row
+    let row_nodes = if f.mesh.is_some() { facets + 1.0 } else { nx + 1.0 };
     let snapshots = d.snapshot_times.len() as f64
-        * (window_elements * size_of::<FieldRecord>() as f64
-            + (nx + 1.0) * size_of::<ProfileRecord>() as f64);
+        * (window_elements * size_of::<FieldRecord>() as f64 + row_nodes * size_of::<ProfileRecord>() as f64);
     let fields = field_files(scene).map_or(0.0, |(count, _)| count as f64);
     let mut estimate = Estimate {
         steps: if steps_f.is_finite() {
@@ -167,13 +202,19 @@ pub fn estimate(scene: &Scene) -> Estimate {
         seconds: (steps_f * per_element_step
             + far_field_steps(scene) * (FAR_FIELD_SECONDS_PER_ELEMENT_STEP - per_element_step).max(0.0)
             + fields * FIELD_SECONDS_PER_ELEMENT)
-            * nx
-            * ny,
+            * bulk,
         parts: vec![
             Part {
-                what: format!("model ({nx} × {ny} elements)"),
-                bytes: bytes_of(nx * ny, BYTES_PER_ELEMENT),
-                key: "fem.element_size",
+                what: match &f.mesh {
+                    Some(_) => format!("model ({bulk} elements of the mesh)"),
+                    None => format!("model ({nx} × {ny} elements)"),
+                },
+                bytes: bytes_of(bulk, bytes_per_element),
+                key: if f.mesh.is_some() {
+                    "fem.mesh.file"
+                } else {
+                    "fem.element_size"
+                },
             },
             Part {
                 what: format!("records ({samples} samples)"),
@@ -190,7 +231,7 @@ pub fn estimate(scene: &Scene) -> Estimate {
     if fields > 0.0 {
         estimate.parts.push(Part {
             what: "ParaView snapshot (one at a time)".to_string(),
-            bytes: bytes_of(nx * ny, FIELD_BYTES_PER_ELEMENT),
+            bytes: bytes_of(bulk, FIELD_BYTES_PER_ELEMENT),
             key: "fem.paraview",
         });
     }
@@ -254,6 +295,33 @@ mod tests {
         assert!((21..=22).contains(&count), "{count}");
         // a 125 000-element bulk file measured 25.6 MB, the 500-facet crack file 0.24 MB
         assert!((25_000_000..26_500_000).contains(&bytes), "{bytes}");
+    }
+
+    #[test]
+    fn a_gmsh_mesh_is_priced_by_its_own_elements_and_facets() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/center-crack-tri.toml");
+        let scene = Scene::from_file(&path).unwrap();
+        let m = scene.fem.mesh.as_ref().unwrap();
+        let (elements, facets) = (
+            m.prepared.mesh.elements.len(),
+            m.prepared.row.as_ref().unwrap().num_facets(),
+        );
+        // the file's 43 138 triangles, not the 653 × 327 of a grid of its mean interface facet
+        // over its bounding box
+        assert_eq!(elements, 43_138);
+        assert_eq!(bulk_and_facets(&scene), (elements as f64, facets as f64));
+        let e = estimate(&scene);
+        let model = &e.parts[0];
+        assert!(
+            model.what.contains("43138 elements of the mesh"),
+            "{}",
+            model.what
+        );
+        assert_eq!(model.bytes, 43_138 * GMSH_BYTES_PER_ELEMENT as u64);
+        assert_eq!(model.key, "fem.mesh.file");
+        // about 1.6e10 element-steps at 1e-8 s: the run measured 6–10 s on two machines
+        let element_steps = e.steps as f64 * elements as f64;
+        assert!((e.seconds - element_steps * GMSH_SECONDS_PER_ELEMENT_STEP).abs() < 1e-9 * e.seconds);
     }
 
     #[test]
