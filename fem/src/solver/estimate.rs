@@ -76,12 +76,12 @@ const FIELD_FILE_BYTES: [f64; 2] = [205.0, 480.0];
 /// without `[fem.paraview]`.
 pub fn field_files(scene: &Scene) -> Option<(u64, u64)> {
     let p = scene.fem.paraview?;
-    let (bulk, facets) = bulk_and_facets(scene);
+    let b = bulk(scene);
     let dt = scene.time_step();
     let count = p.count(dt, (scene.duration() / dt).ceil() as u64);
     Some((
         count,
-        (FIELD_FILE_BYTES[0] * bulk + FIELD_FILE_BYTES[1] * facets) as u64,
+        (FIELD_FILE_BYTES[0] * b.elements + FIELD_FILE_BYTES[1] * b.facets) as u64,
     ))
 }
 
@@ -108,19 +108,55 @@ fn far_field_steps(scene: &Scene) -> f64 {
     ((b - a) / scene.time_step()).ceil()
 }
 
-/// The bulk elements and the facets of the interface row: a Gmsh mesh's own (its `[fem]` form
-/// holds its bounding box and the mean facet of its interface, whose grid would count a graded
-/// mesh's elements many times over), else the grid's.
-fn bulk_and_facets(scene: &Scene) -> (f64, f64) {
+/// The model of a run as the estimate counts it: a Gmsh mesh's own elements and interface row (its
+/// `[fem]` form holds its bounding box and the mean facet of its interface, whose grid would count
+/// a graded mesh's elements many times over), else the grid's.
+struct Bulk {
+    /// Bulk elements [-].
+    elements: f64,
+    /// Facets of the interface row [-].
+    facets: f64,
+    /// Nodes of the interface row, one stress-profile row each in a snapshot [-].
+    row_nodes: f64,
+    /// Crack chains, one crack record each per sample [-].
+    chains: f64,
+    /// Memory of the model per element [B].
+    bytes_each: usize,
+    /// The model's part as printed, and the key that scales it.
+    what: String,
+    key: &'static str,
+}
+
+/// [`Bulk`] of a run of `scene`.
+fn bulk(scene: &Scene) -> Bulk {
     match &scene.fem.mesh {
-        Some(m) => (
-            m.prepared.mesh.elements.len() as f64,
-            m.prepared.row.as_ref().map_or(0, |r| r.num_facets()) as f64,
-        ),
+        Some(m) => {
+            let row = m.prepared.row.as_ref();
+            let elements = m.prepared.mesh.elements.len() as f64;
+            let facets = row.map_or(0, |r| r.num_facets()) as f64;
+            Bulk {
+                elements,
+                facets,
+                row_nodes: facets + 1.0,
+                chains: row.map_or(0, |r| r.num_chains()) as f64,
+                bytes_each: GMSH_BYTES_PER_ELEMENT,
+                what: format!("model ({elements} elements of the mesh)"),
+                key: "fem.mesh.file",
+            }
+        }
         None => {
             let (nx, ny) = elements(scene);
+            // one crack chain on the grid, along its interface row
             let interface = scene.interface.is_some() || scene.crack.is_some();
-            (nx * ny, if interface { nx } else { 0.0 })
+            Bulk {
+                elements: nx * ny,
+                facets: if interface { nx } else { 0.0 },
+                row_nodes: nx + 1.0,
+                chains: if interface { 1.0 } else { 0.0 },
+                bytes_each: BYTES_PER_ELEMENT,
+                what: format!("model ({nx} × {ny} elements)"),
+                key: "fem.element_size",
+            }
         }
     }
 }
@@ -153,32 +189,22 @@ pub fn estimate(scene: &Scene) -> Estimate {
     let steps_f = (scene.duration() / dt).ceil();
     let every = (f.output_interval / dt).round().max(1.0);
     let samples = (steps_f / every).floor() + 2.0;
-    let (bulk, facets) = bulk_and_facets(scene);
-    let bytes_per_element = if f.mesh.is_some() {
-        GMSH_BYTES_PER_ELEMENT
-    } else {
-        BYTES_PER_ELEMENT
-    };
+    let b = bulk(scene);
     // per sample: damage at 2 Gauss points per facet, face tractions per node of the row
-    let row = if facets > 0.0 {
-        2.0 * facets * size_of::<InterfaceRecord>() as f64 + (facets + 1.0) * size_of::<FaceRecord>() as f64
+    let row = if b.facets > 0.0 {
+        2.0 * b.facets * size_of::<InterfaceRecord>() as f64 + b.row_nodes * size_of::<FaceRecord>() as f64
     } else {
         0.0
     };
     let d = &f.diagnostics;
-    // one crack record per chain (one on the grid)
-    let chains = match &f.mesh {
-        Some(m) => m.prepared.row.as_ref().map_or(0, |r| r.num_chains()),
-        None => usize::from(scene.interface.is_some() || scene.crack.is_some()),
-    };
     let per_sample = row
         + (size_of::<TipRecord>() + size_of::<EnergyRecord>() + size_of::<ContactMeanRecord>()) as f64
-        + chains as f64 * size_of::<CrackRecord>() as f64
+        + b.chains * size_of::<CrackRecord>() as f64
         // one crack-tip record per crack: counted as two cracks per chain
-        + 2.0 * chains as f64 * size_of::<CrackTipRecord>() as f64
+        + 2.0 * b.chains * size_of::<CrackTipRecord>() as f64
         + f.probes.len() as f64 * size_of::<ProbeRecord>() as f64
         // one boundary record per side, curve or point of [fem.boundary]
-        + f.boundary.as_ref().map_or(0, |b| b.curves.len()) as f64 * size_of::<BoundaryRecord>() as f64
+        + f.boundary.as_ref().map_or(0, |bd| bd.curves.len()) as f64 * size_of::<BoundaryRecord>() as f64
         + if d.kkt_metric {
             size_of::<KktRecord>() as f64
         } else {
@@ -186,11 +212,10 @@ pub fn estimate(scene: &Scene) -> Estimate {
         };
     let [[x0, x1], [y0, y1]] = d.snapshot_window;
     let window_elements =
-        (((x1 - x0).max(0.0) / h).ceil().min(nx) * ((y1 - y0).max(0.0) / h).ceil().min(ny)).min(bulk);
-    // one profile row per node of the interface row
-    let row_nodes = if f.mesh.is_some() { facets + 1.0 } else { nx + 1.0 };
+        (((x1 - x0).max(0.0) / h).ceil().min(nx) * ((y1 - y0).max(0.0) / h).ceil().min(ny)).min(b.elements);
     let snapshots = d.snapshot_times.len() as f64
-        * (window_elements * size_of::<FieldRecord>() as f64 + row_nodes * size_of::<ProfileRecord>() as f64);
+        * (window_elements * size_of::<FieldRecord>() as f64
+            + b.row_nodes * size_of::<ProfileRecord>() as f64);
     let fields = field_files(scene).map_or(0.0, |(count, _)| count as f64);
     let mut estimate = Estimate {
         steps: if steps_f.is_finite() {
@@ -202,19 +227,12 @@ pub fn estimate(scene: &Scene) -> Estimate {
         seconds: (steps_f * per_element_step
             + far_field_steps(scene) * (FAR_FIELD_SECONDS_PER_ELEMENT_STEP - per_element_step).max(0.0)
             + fields * FIELD_SECONDS_PER_ELEMENT)
-            * bulk,
+            * b.elements,
         parts: vec![
             Part {
-                what: match &f.mesh {
-                    Some(_) => format!("model ({bulk} elements of the mesh)"),
-                    None => format!("model ({nx} × {ny} elements)"),
-                },
-                bytes: bytes_of(bulk, bytes_per_element),
-                key: if f.mesh.is_some() {
-                    "fem.mesh.file"
-                } else {
-                    "fem.element_size"
-                },
+                what: b.what,
+                bytes: bytes_of(b.elements, b.bytes_each),
+                key: b.key,
             },
             Part {
                 what: format!("records ({samples} samples)"),
@@ -231,7 +249,7 @@ pub fn estimate(scene: &Scene) -> Estimate {
     if fields > 0.0 {
         estimate.parts.push(Part {
             what: "ParaView snapshot (one at a time)".to_string(),
-            bytes: bytes_of(bulk, FIELD_BYTES_PER_ELEMENT),
+            bytes: bytes_of(b.elements, FIELD_BYTES_PER_ELEMENT),
             key: "fem.paraview",
         });
     }
@@ -309,7 +327,8 @@ mod tests {
         // the file's 43 138 triangles, not the 653 × 327 of a grid of its mean interface facet
         // over its bounding box
         assert_eq!(elements, 43_138);
-        assert_eq!(bulk_and_facets(&scene), (elements as f64, facets as f64));
+        let b = bulk(&scene);
+        assert_eq!((b.elements, b.facets), (elements as f64, facets as f64));
         let e = estimate(&scene);
         let model = &e.parts[0];
         assert!(
