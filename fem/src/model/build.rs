@@ -536,6 +536,7 @@ fn workspace(model: &Model) -> Workspace {
             Some(grid) => crate::model::layers::SweepBuffers::new(grid),
             None => crate::model::layers::SweepBuffers::none(model.bulk.apart.len()),
         },
+        reached: Vec::with_capacity(model.interface.row.as_ref().map_or(0, |r| r.num_facets())),
     }
 }
 

@@ -35,24 +35,23 @@ pub(crate) fn facet_tractions(
     })
 }
 
-/// Checks every candidate facet, inserts those that reach σ_c, unties twins whose incident
-/// facets are all open, extends Γ_det. Returns the number inserted.
-pub(crate) fn check_and_insert(
-    model: &Model,
-    facets: &mut Facets,
-    tied_twin: &mut [u32],
-    contact: Option<&mut ContactPart>,
-    u: &[Vector2<f64>],
-    t: f64,
-) -> usize {
+/// A facet that reached σ_c at the check: its index in the interface row, then the traction
+/// vector t_q [Pa] and effective stress σ_eff [Pa] at its two Gauss points.
+pub(crate) type Reached = (u32, [(Vector2<f64>, f64); 2]);
+
+/// Checks every candidate facet against σ_c under `u` and lists, in facet order, those that reach
+/// it (`reached` is cleared first; its capacity is the row's facets, so nothing is allocated).
+/// Reads the model, which facets are inserted and `u` only: it may run beside any phase that
+/// writes neither, and [`insert_reached`] then does what checking and inserting facet by facet
+/// would have done, since a facet's tractions do not depend on another's insertion.
+pub(crate) fn check(model: &Model, facets: &Facets, u: &[Vector2<f64>], reached: &mut Vec<Reached>) {
+    reached.clear();
     let Some(row) = &model.interface.row else {
-        return 0;
+        return;
     };
     if model.interface.laws.is_empty() {
-        return 0;
+        return;
     }
-    let mut contact = contact;
-    let mut count = 0;
     for c in 0..row.num_facets() {
         if row.kind[c] != FacetKind::Cohesive || facets.inserted[c] {
             continue;
@@ -63,10 +62,31 @@ pub(crate) fn check_and_insert(
             InsertionRule::Max => tq[0].1.max(tq[1].1) >= law.sigma_c,
             InsertionRule::Mean => 0.5 * (tq[0].1 + tq[1].1) > law.sigma_c,
         };
-        if !reach {
-            continue;
+        if reach {
+            reached.push((c as u32, tq));
         }
-        insert(model, row, law, facets, c, &tq, u, t);
+    }
+}
+
+/// Inserts the facets [`check`] listed, in its order, unties twins whose incident facets are all
+/// open and extends Γ_det. Returns the number inserted.
+pub(crate) fn insert_reached(
+    model: &Model,
+    facets: &mut Facets,
+    tied_twin: &mut [u32],
+    contact: Option<&mut ContactPart>,
+    u: &[Vector2<f64>],
+    t: f64,
+    reached: &[Reached],
+) -> usize {
+    let Some(row) = &model.interface.row else {
+        return 0;
+    };
+    let mut contact = contact;
+    for (c, tq) in reached {
+        let c = *c as usize;
+        let law = &model.interface.laws[model.interface.facet_law[c] as usize];
+        insert(model, row, law, facets, c, tq, u, t);
         let ends = row.facet_columns(c);
         for i in ends {
             facets.column_insert_time[i] = t;
@@ -83,9 +103,8 @@ pub(crate) fn check_and_insert(
                 tied_twin[row.plus[i] as usize] = u32::MAX;
             }
         }
-        count += 1;
     }
-    count
+    reached.len()
 }
 
 #[allow(clippy::too_many_arguments)]

@@ -370,6 +370,8 @@ pub struct Workspace {
     pub(crate) predicted: bool,
     /// Scratch of the one-pass sweep of unsampled steps.
     pub(crate) sweep: crate::model::layers::SweepBuffers,
+    /// The facets that reached σ_c at this step's insertion check (capacity: the row's facets).
+    pub(crate) reached: Vec<crate::model::insertion::Reached>,
 }
 
 impl Model {

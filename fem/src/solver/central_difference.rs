@@ -47,7 +47,10 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
     let far_field = absorbing::far_field_accelerates(model, t1);
     let overlap = !sample && !far_field;
     // (swept, whether f holds the bulk forces, contact): without a one-pass sweep (a Gmsh mesh,
-    // a grid of two materials) the bulk forces themselves run beside the detection
+    // a grid of two materials) the bulk forces themselves run beside the detection, and so does
+    // the insertion check, which reads u_{n+1} (no longer written before the corrector) and
+    // which facets are inserted (written only by the insertion)
+    let checked = overlap && !super::sweep::applies(model);
     let (swept, forces_done, contact) = if overlap {
         let (swept, contact) = forces_beside_detection(model, state, ws, dt);
         (swept, true, Some(contact))
@@ -92,13 +95,17 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
     ws.clock.lap(Phase::Boundary);
     // Insertion reads u_{n+1} only (element stresses next to the interface): it runs before the
     // corrector, whose fused sweep may already move the bulk on to the next step's predictor.
-    insertion::check_and_insert(
+    if !checked {
+        insertion::check(model, &state.facets, &state.u, &mut ws.reached);
+    }
+    insertion::insert_reached(
         model,
         &mut state.facets,
         &mut state.tied_twin,
         state.contact.as_mut(),
         &state.u,
         t1,
+        &ws.reached,
     );
     ws.clock.lap(Phase::Insertion);
     let fuse = !sample;
@@ -124,14 +131,15 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
 
 /// The bulk forces of an unsampled step (with the one-pass sweep of the corrector where the grid
 /// allows it, else the plain internal forces) on one thread, and the contact detection on the
-/// other: (the sweep's max v² [m²/s²] if it ran, the contact summary).
+/// other, then, where there is no sweep, the insertion check into `ws.reached` (it reads u_{n+1}
+/// and the inserted facets, which nothing writes until the insertion): (the sweep's max v²
+/// [m²/s²] if it ran, the contact summary).
 fn forces_beside_detection(
     model: &Model,
     state: &mut State,
     ws: &mut Workspace,
     dt: f64,
 ) -> (Option<f64>, Option<ContactSummary>) {
-    let (u, v, f, sweep) = (&mut state.u, &mut state.v, &mut ws.f, &mut ws.sweep);
     let (cp, tied, x, frictionless, f_con) = (
         state.contact.as_mut(),
         &state.tied_twin,
@@ -139,22 +147,36 @@ fn forces_beside_detection(
         &ws.frictionless,
         &mut ws.f_con,
     );
-    let (swept, (contact, detect_s)) = rayon::join(
+    let detect = || {
+        let clock = std::time::Instant::now();
+        let c = contact_step::detect(model, cp, tied, x, frictionless, f_con);
+        (c, clock.elapsed().as_secs_f64())
+    };
+    if super::sweep::applies(model) {
+        let (u, v, f, sweep) = (&mut state.u, &mut state.v, &mut ws.f, &mut ws.sweep);
+        let (swept, (contact, detect_s)) = rayon::join(
+            || super::sweep::forces_and_advance(model, u, v, f, sweep, dt),
+            detect,
+        );
+        ws.clock.overlapped(Phase::Contact, detect_s);
+        if swept.is_none() {
+            model.internal_forces(&state.u, &mut ws.f);
+        }
+        return (swept, contact);
+    }
+    let (u, f, facets, reached) = (&state.u, &mut ws.f, &state.facets, &mut ws.reached);
+    let ((), ((contact, detect_s), check_s)) = rayon::join(
+        || model.internal_forces(u, f),
         || {
-            let swept = super::sweep::forces_and_advance(model, u, v, f, sweep, dt);
-            if swept.is_none() {
-                model.internal_forces(u, f);
-            }
-            swept
-        },
-        || {
+            let contact = detect();
             let clock = std::time::Instant::now();
-            let c = contact_step::detect(model, cp, tied, x, frictionless, f_con);
-            (c, clock.elapsed().as_secs_f64())
+            insertion::check(model, facets, u, reached);
+            (contact, clock.elapsed().as_secs_f64())
         },
     );
     ws.clock.overlapped(Phase::Contact, detect_s);
-    (swept, contact)
+    ws.clock.overlapped(Phase::Insertion, check_s);
+    (None, contact)
 }
 
 fn save_row_displacements(model: &Model, state: &State, ws: &mut Workspace) {
@@ -592,6 +614,19 @@ mod tests {
             "{name}: the check must run through insertions"
         );
         assert_eq!(compared, steps / 7);
+        // without the sweep, the unsampled steps' insertion check ran beside the bulk forces
+        let beside = |ws: &crate::model::state::Workspace| {
+            let phases = ws.clock.phases();
+            phases
+                .iter()
+                .any(|p| p.beside && p.phase == "insertion" && p.seconds > 0.0)
+        };
+        assert_eq!(
+            beside(&ws_fused),
+            !crate::solver::sweep::applies(&model),
+            "{name}"
+        );
+        assert!(!beside(&ws_plain), "{name}: sampled steps check in place");
         swept
     }
 

@@ -35,18 +35,8 @@ pub(crate) fn forces_and_advance(
     buffers: &mut SweepBuffers,
     dt: f64,
 ) -> Option<f64> {
-    let BulkMesh::Grid { grid, stiffness } = &model.bulk.mesh else {
-        return None;
-    };
-    let kernel = match stiffness {
-        Stiffness::Shared(_) | Stiffness::ByRow(_) => Kernel::Stencil(stiffness),
-        Stiffness::Mapped(mapped) => Kernel::Mapped(mapped),
-        Stiffness::PerElement(_) => return None,
-    };
+    let (grid, kernel) = grid_and_kernel(model)?;
     let nx = grid.nx;
-    if nx < 2 {
-        return None;
-    }
     let w = nx + 1;
     let row = 2 * w;
     let layers = grid.layer_side.len();
@@ -89,6 +79,25 @@ pub(crate) fn forces_and_advance(
         })
         .reduce(|| 0.0, f64::max);
     Some(vmax2)
+}
+
+/// Whether [`forces_and_advance`] sweeps this model's mesh (and so writes u and v in the bulk
+/// phase), or leaves the separate passes to the caller.
+pub(crate) fn applies(model: &Model) -> bool {
+    grid_and_kernel(model).is_some()
+}
+
+/// The grid and the sweep's kernel on it, if the mesh has one (see [`forces_and_advance`]).
+fn grid_and_kernel(model: &Model) -> Option<(&Grid, Kernel<'_>)> {
+    let BulkMesh::Grid { grid, stiffness } = &model.bulk.mesh else {
+        return None;
+    };
+    let kernel = match stiffness {
+        Stiffness::Shared(_) | Stiffness::ByRow(_) => Kernel::Stencil(stiffness),
+        Stiffness::Mapped(mapped) => Kernel::Mapped(mapped),
+        Stiffness::PerElement(_) => return None,
+    };
+    (grid.nx >= 2).then_some((grid, kernel))
 }
 
 /// How a layer's forces are computed.
