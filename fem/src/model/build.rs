@@ -510,6 +510,11 @@ fn lumped_masses(grid: &Grid, density: f64) -> Vec<f64> {
 fn workspace(model: &Model) -> Workspace {
     let n = model.num_nodes();
     let with_contact = model.interface.contact.is_some();
+    let check_nodes = if crate::solver::sweep::applies(model) {
+        crate::model::insertion::checked_nodes(model)
+    } else {
+        Vec::new()
+    };
     Workspace {
         f: vec![Vector2::zeros(); n],
         x: if with_contact {
@@ -537,6 +542,13 @@ fn workspace(model: &Model) -> Workspace {
             None => crate::model::layers::SweepBuffers::none(model.bulk.apart.len()),
         },
         reached: Vec::with_capacity(model.interface.row.as_ref().map_or(0, |r| r.num_facets())),
+        // zeroed by the allocator: the pages of nodes the check does not read stay untouched
+        check_u: if check_nodes.is_empty() {
+            Vec::new()
+        } else {
+            bytemuck::zeroed_vec(n)
+        },
+        check_nodes,
     }
 }
 

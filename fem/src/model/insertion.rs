@@ -68,6 +68,27 @@ pub(crate) fn check(model: &Model, facets: &Facets, u: &[Vector2<f64>], reached:
     }
 }
 
+/// The nodes whose u [`check`] reads: those of the elements on both sides of every cohesive
+/// facet, sorted and each once (none without cohesive laws).
+pub(crate) fn checked_nodes(model: &Model) -> Vec<u32> {
+    let Some(row) = model
+        .interface
+        .row
+        .as_ref()
+        .filter(|_| !model.interface.laws.is_empty())
+    else {
+        return Vec::new();
+    };
+    let mut nodes: Vec<u32> = (0..row.num_facets())
+        .filter(|&c| row.kind[c] == FacetKind::Cohesive)
+        .flat_map(|c| [row.elem_plus[c], row.elem_minus[c]])
+        .flat_map(|e| model.element_nodes(e as usize).as_slice().to_vec())
+        .collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    nodes
+}
+
 /// Inserts the facets [`check`] listed, in its order, unties twins whose incident facets are all
 /// open and extends Γ_det. Returns the number inserted.
 pub(crate) fn insert_reached(
