@@ -542,6 +542,7 @@ fn workspace(model: &Model) -> Workspace {
             None => crate::model::layers::SweepBuffers::none(model.bulk.apart.len()),
         },
         reached: Vec::with_capacity(model.interface.row.as_ref().map_or(0, |r| r.num_facets())),
+        cohesive_forces: Vec::with_capacity(model.interface.row.as_ref().map_or(0, |r| r.num_facets())),
         // zeroed by the allocator: the pages of nodes the check does not read stay untouched
         check_u: if check_nodes.is_empty() {
             Vec::new()

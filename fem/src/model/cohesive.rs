@@ -33,6 +33,7 @@ pub(crate) fn midline_normal(
 
 /// Adds the forces of every inserted cohesive element to `f`, updates the Gauss states, the
 /// cumulative cohesive work E_coh,tot += (L₀/2)⟨T⟩·ΔΔ [J/m] and the failure times.
+/// Returns the work increment [J/m]. The same as [`update`] then [`scatter`].
 pub(crate) fn assemble(
     model: &Model,
     facets: &mut Facets,
@@ -47,12 +48,65 @@ pub(crate) fn assemble(
     for k in 0..facets.active.len() {
         let c = facets.active[k] as usize;
         let law = &model.interface.laws[model.interface.facet_law[c] as usize];
-        work += element(model, row, law, facets, c, u, f, t);
+        let (forces, w) = element(model, row, law, facets, c, u, t);
+        work += w;
+        add_forces(row, c, &forces, f);
     }
     work
 }
 
-#[allow(clippy::too_many_arguments)] // one call site; bundling would only rename the same borrows
+/// Nodal forces [N/m] of one cohesive element, on nodes [a⁺, b⁺, a⁻, b⁻] of its facet.
+pub(crate) type ElementForces = [Vector2<f64>; 4];
+
+/// [`assemble`] without the forces' scatter: the Gauss states, work densities and failure times
+/// updated, each active element's forces into `forces` (cleared first; its capacity is the row's
+/// facets, so nothing is allocated), in the order of `facets.active`. Reads u only at the nodes
+/// of the active facets. Returns the work increment [J/m].
+pub(crate) fn update(
+    model: &Model,
+    facets: &mut Facets,
+    u: &[Vector2<f64>],
+    t: f64,
+    forces: &mut Vec<ElementForces>,
+) -> f64 {
+    forces.clear();
+    let Some(row) = &model.interface.row else {
+        return 0.0;
+    };
+    let mut work = 0.0;
+    for k in 0..facets.active.len() {
+        let c = facets.active[k] as usize;
+        let law = &model.interface.laws[model.interface.facet_law[c] as usize];
+        let (element_forces, w) = element(model, row, law, facets, c, u, t);
+        work += w;
+        forces.push(element_forces);
+    }
+    work
+}
+
+/// Adds the forces [`update`] computed to `f`, element by element in its order: the additions of
+/// [`assemble`], in the same order.
+pub(crate) fn scatter(model: &Model, facets: &Facets, forces: &[ElementForces], f: &mut [Vector2<f64>]) {
+    let Some(row) = &model.interface.row else {
+        return;
+    };
+    for (&c, element_forces) in facets.active.iter().zip(forces) {
+        add_forces(row, c as usize, element_forces, f);
+    }
+}
+
+fn add_forces(row: &InterfaceRow, c: usize, forces: &ElementForces, f: &mut [Vector2<f64>]) {
+    for (&n, force) in element_nodes(row, c).iter().zip(forces) {
+        f[n] += force;
+    }
+}
+
+/// Nodes [a⁺, b⁺, a⁻, b⁻] of facet c's element.
+fn element_nodes(row: &InterfaceRow, c: usize) -> [usize; 4] {
+    let [a, b] = row.facet_columns(c);
+    [row.plus[a], row.plus[b], row.minus[a], row.minus[b]].map(|n| n as usize)
+}
+
 fn element(
     model: &Model,
     row: &InterfaceRow,
@@ -60,11 +114,9 @@ fn element(
     facets: &mut Facets,
     c: usize,
     u: &[Vector2<f64>],
-    f: &mut [Vector2<f64>],
     t: f64,
-) -> f64 {
-    let [a, b] = row.facet_columns(c);
-    let nodes = [row.plus[a], row.plus[b], row.minus[a], row.minus[b]].map(|n| n as usize);
+) -> (ElementForces, f64) {
+    let nodes = element_nodes(row, c);
     let un = nodes.map(|n| u[n]);
     let xn = nodes.map(|n| model.bulk.x0[n] + u[n]);
     let geometry = FacetGeometry {
@@ -88,10 +140,7 @@ fn element(
         facets.prev_traction[c][q] = out.traction[q];
     }
     facets.gauss[c] = states;
-    for (k, &n) in nodes.iter().enumerate() {
-        f[n] += out.force[k];
-    }
-    work
+    (out.force, work)
 }
 
 /// Reference length and orientation sign of a cohesive element.

@@ -372,13 +372,16 @@ pub struct Workspace {
     pub(crate) sweep: crate::model::layers::SweepBuffers,
     /// The facets that reached σ_c at this step's insertion check (capacity: the row's facets).
     pub(crate) reached: Vec<crate::model::insertion::Reached>,
+    /// Each active cohesive element's nodal forces [N/m] of this step, computed beside the bulk
+    /// forces and added to `f` after them (capacity: the row's facets).
+    pub(crate) cohesive_forces: Vec<crate::model::cohesive::ElementForces>,
     /// On a grid with the one-pass sweep, which moves u on in the bulk phase: the nodes the
-    /// insertion check reads (those of the elements on both sides of the cohesive facets), sorted;
-    /// empty elsewhere.
+    /// insertion check reads (those of the elements on both sides of the cohesive facets, which
+    /// hold those the cohesive law reads), sorted; empty elsewhere.
     pub(crate) check_nodes: Vec<u32>,
-    /// u_{n+1} [m] of `check_nodes`, copied before the sweep for the check beside it (indexed by
-    /// node, zeroed by the allocator: the other entries are never read, their pages never
-    /// touched); empty where `check_nodes` is.
+    /// u_{n+1} [m] of `check_nodes`, copied before the sweep for the check and the cohesive law
+    /// beside it (indexed by node, zeroed by the allocator: the other entries are never read,
+    /// their pages never touched); empty where `check_nodes` is.
     pub(crate) check_u: Vec<Vector2<f64>>,
 }
 

@@ -51,12 +51,14 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
     // check runs there too: it reads which facets are inserted (written only by the insertion)
     // and u_{n+1}, which the bulk forces only read, and of which the sweep, which moves u on, is
     // given a copy of the nodes the check reads.
+    // The cohesive law too, after the check on the same thread: it writes the Gauss states, which
+    // neither reads, and its forces are added to f after the bulk forces, as in place.
     let checked = overlap;
-    let (swept, forces_done, contact) = if overlap {
-        let (swept, contact) = forces_beside_detection(model, state, ws, dt);
-        (swept, true, Some(contact))
+    let (swept, forces_done, contact, cohesive_work) = if overlap {
+        let (swept, contact, work) = forces_beside_detection(model, state, ws, dt, t1);
+        (swept, true, Some(contact), Some(work))
     } else {
-        (None, false, None)
+        (None, false, None, None)
     };
     if swept.is_none() {
         if !forces_done {
@@ -69,7 +71,13 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
         ws.strain_energy = bulk::strain_energy(&state.u, &ws.f);
         ws.clock.lap(Phase::StrainEnergy);
     }
-    state.energy.cohesive_total += cohesive::assemble(model, &mut state.facets, &state.u, &mut ws.f, t1);
+    state.energy.cohesive_total += match cohesive_work {
+        Some(work) => {
+            cohesive::scatter(model, &state.facets, &ws.cohesive_forces, &mut ws.f);
+            work
+        }
+        None => cohesive::assemble(model, &mut state.facets, &state.u, &mut ws.f, t1),
+    };
     ws.clock.lap(Phase::Cohesive);
     let contact = match contact {
         Some(c) => c,
@@ -134,13 +142,16 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
 /// allows it, else the plain internal forces) on one thread, and the contact detection on the
 /// other, then the insertion check into `ws.reached` (it reads u_{n+1}, of which the sweep gets a
 /// copy of the nodes it reads, and the inserted facets, which nothing writes until the
-/// insertion): (the sweep's max v² [m²/s²] if it ran, the contact summary).
+/// insertion), then the cohesive law at t_{n+1} = `t1` into `ws.cohesive_forces` (the Gauss
+/// states, which only it writes, and u_{n+1} at the interface's nodes, which the copy holds): (the
+/// sweep's max v² [m²/s²] if it ran, the contact summary, the cohesive work increment [J/m]).
 fn forces_beside_detection(
     model: &Model,
     state: &mut State,
     ws: &mut Workspace,
     dt: f64,
-) -> (Option<f64>, Option<ContactSummary>) {
+    t1: f64,
+) -> (Option<f64>, Option<ContactSummary>, f64) {
     let (cp, tied, x, frictionless, f_con) = (
         state.contact.as_mut(),
         &state.tied_twin,
@@ -153,14 +164,16 @@ fn forces_beside_detection(
         let c = contact_step::detect(model, cp, tied, x, frictionless, f_con);
         (c, clock.elapsed().as_secs_f64())
     };
-    let (facets, reached) = (&state.facets, &mut ws.reached);
+    let (facets, reached, forces) = (&mut state.facets, &mut ws.reached, &mut ws.cohesive_forces);
     let detect_and_check = |u: &[Vector2<f64>]| {
         let contact = detect();
         let clock = std::time::Instant::now();
         insertion::check(model, facets, u, reached);
-        (contact, clock.elapsed().as_secs_f64())
+        let check_s = clock.elapsed().as_secs_f64();
+        let work = cohesive::update(model, facets, u, t1, forces);
+        (contact, check_s, (work, clock.elapsed().as_secs_f64() - check_s))
     };
-    let (swept, ((contact, detect_s), check_s)) = if super::sweep::applies(model) {
+    let (swept, ((contact, detect_s), check_s, (work, cohesive_s))) = if super::sweep::applies(model) {
         let check_u = &mut ws.check_u;
         for &n in &ws.check_nodes {
             check_u[n as usize] = state.u[n as usize];
@@ -177,7 +190,8 @@ fn forces_beside_detection(
     };
     ws.clock.overlapped(Phase::Contact, detect_s);
     ws.clock.overlapped(Phase::Insertion, check_s);
-    (swept, contact)
+    ws.clock.overlapped(Phase::Cohesive, cohesive_s);
+    (swept, contact, work)
 }
 
 fn save_row_displacements(model: &Model, state: &State, ws: &mut Workspace) {
@@ -615,18 +629,20 @@ mod tests {
             "{name}: the check must run through insertions"
         );
         assert_eq!(compared, steps / 7);
-        // the unsampled steps' insertion check ran beside the bulk forces
-        let beside = |ws: &crate::model::state::Workspace| {
+        // the unsampled steps' insertion check and cohesive law ran beside the bulk forces
+        let beside = |ws: &crate::model::state::Workspace, phase: &str| {
             let phases = ws.clock.phases();
             phases
                 .iter()
-                .any(|p| p.beside && p.phase == "insertion" && p.seconds > 0.0)
+                .any(|p| p.beside && p.phase == phase && p.seconds > 0.0)
         };
-        assert!(
-            beside(&ws_fused),
-            "{name}: unsampled steps check beside the bulk forces"
-        );
-        assert!(!beside(&ws_plain), "{name}: sampled steps check in place");
+        for phase in ["insertion", "cohesive law"] {
+            assert!(beside(&ws_fused, phase), "{name}: {phase} beside the bulk forces");
+            assert!(
+                !beside(&ws_plain, phase),
+                "{name}: sampled steps run {phase} in place"
+            );
+        }
         swept
     }
 
