@@ -41,18 +41,9 @@ pub(crate) fn assemble(
     f: &mut [Vector2<f64>],
     t: f64,
 ) -> f64 {
-    let Some(row) = &model.interface.row else {
-        return 0.0;
-    };
-    let mut work = 0.0;
-    for k in 0..facets.active.len() {
-        let c = facets.active[k] as usize;
-        let law = &model.interface.laws[model.interface.facet_law[c] as usize];
-        let (forces, w) = element(model, row, law, facets, c, u, t);
-        work += w;
-        add_forces(row, c, &forces, f);
-    }
-    work
+    each_element(model, facets, u, t, |row, c, forces| {
+        add_forces(row, c, &forces, f)
+    })
 }
 
 /// Nodal forces [N/m] of one cohesive element, on nodes [a⁺, b⁺, a⁻, b⁻] of its facet.
@@ -70,6 +61,20 @@ pub(crate) fn update(
     forces: &mut Vec<ElementForces>,
 ) -> f64 {
     forces.clear();
+    each_element(model, facets, u, t, |_, _, element_forces| {
+        forces.push(element_forces)
+    })
+}
+
+/// Every active element in the order of `facets.active`: its law updated, its forces handed to
+/// `take` (with the row and the facet); returns the sum of their work increments [J/m].
+fn each_element(
+    model: &Model,
+    facets: &mut Facets,
+    u: &[Vector2<f64>],
+    t: f64,
+    mut take: impl FnMut(&InterfaceRow, usize, ElementForces),
+) -> f64 {
     let Some(row) = &model.interface.row else {
         return 0.0;
     };
@@ -77,9 +82,9 @@ pub(crate) fn update(
     for k in 0..facets.active.len() {
         let c = facets.active[k] as usize;
         let law = &model.interface.laws[model.interface.facet_law[c] as usize];
-        let (element_forces, w) = element(model, row, law, facets, c, u, t);
+        let (forces, w) = element(model, row, law, facets, c, u, t);
         work += w;
-        forces.push(element_forces);
+        take(row, c, forces);
     }
     work
 }
