@@ -506,12 +506,34 @@ fn lumped_masses(grid: &Grid, density: f64) -> Vec<f64> {
     mass
 }
 
+/// The nodes whose u the insertion check reads (`model::insertion::check`), which hold those the
+/// cohesive law reads: the nodes of the elements on both sides of every cohesive facet, sorted and
+/// each once (none without cohesive laws).
+fn checked_nodes(model: &Model) -> Vec<u32> {
+    let Some(row) = model
+        .interface
+        .row
+        .as_ref()
+        .filter(|_| !model.interface.laws.is_empty())
+    else {
+        return Vec::new();
+    };
+    let mut nodes: Vec<u32> = (0..row.num_facets())
+        .filter(|&c| row.kind[c] == FacetKind::Cohesive)
+        .flat_map(|c| [row.elem_plus[c], row.elem_minus[c]])
+        .flat_map(|e| model.element_nodes(e as usize).as_slice().to_vec())
+        .collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    nodes
+}
+
 /// Every buffer of the step, sized once.
 fn workspace(model: &Model) -> Workspace {
     let n = model.num_nodes();
     let with_contact = model.interface.contact.is_some();
-    let check_nodes = if crate::solver::sweep::applies(model) {
-        crate::model::insertion::checked_nodes(model)
+    let check_nodes = if model.grid().is_some() {
+        checked_nodes(model)
     } else {
         Vec::new()
     };

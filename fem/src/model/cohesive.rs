@@ -3,7 +3,7 @@
 
 use crate::law::cohesive::{self, ClosingTreatment, CohesiveState, LinearCohesive};
 use crate::mesh::interfaces::InterfaceRow;
-use crate::model::state::{Facets, Model};
+use crate::model::state::{ElementForces, Facets, Model};
 use nalgebra::Vector2;
 
 /// Facet Gauss points s_q = ∓1/√3 and the shape functions (N₁, N₂) = ((1−s)/2, (1+s)/2) there.
@@ -45,9 +45,6 @@ pub(crate) fn assemble(
         add_forces(row, c, &forces, f)
     })
 }
-
-/// Nodal forces [N/m] of one cohesive element, on nodes [a⁺, b⁺, a⁻, b⁻] of its facet.
-pub(crate) type ElementForces = [Vector2<f64>; 4];
 
 /// [`assemble`] without the forces' scatter: the Gauss states, work densities and failure times
 /// updated, each active element's forces into `forces` (cleared first; its capacity is the row's

@@ -7,7 +7,7 @@ use crate::mesh::interfaces::{FacetKind, InterfaceRow, NO_JUNCTION};
 use crate::mesh::interfaces::{column_tied, tie_junction};
 use crate::model::build::add_facet_faces;
 use crate::model::cohesive::facet_gauss;
-use crate::model::state::{ContactPart, Facets, Model};
+use crate::model::state::{ContactPart, Facets, Model, Reached};
 use crate::model::stress::{self, Side};
 use crate::scene::InsertionRule;
 use nalgebra::Vector2;
@@ -34,10 +34,6 @@ pub(crate) fn facet_tractions(
         (t, eff)
     })
 }
-
-/// A facet that reached σ_c at the check: its index in the interface row, then the traction
-/// vector t_q [Pa] and effective stress σ_eff [Pa] at its two Gauss points.
-pub(crate) type Reached = (u32, [(Vector2<f64>, f64); 2]);
 
 /// Checks every candidate facet against σ_c under `u` and lists, in facet order, those that reach
 /// it (`reached` is cleared first; its capacity is the row's facets, so nothing is allocated).
@@ -66,27 +62,6 @@ pub(crate) fn check(model: &Model, facets: &Facets, u: &[Vector2<f64>], reached:
             reached.push((c as u32, tq));
         }
     }
-}
-
-/// The nodes whose u [`check`] reads: those of the elements on both sides of every cohesive
-/// facet, sorted and each once (none without cohesive laws).
-pub(crate) fn checked_nodes(model: &Model) -> Vec<u32> {
-    let Some(row) = model
-        .interface
-        .row
-        .as_ref()
-        .filter(|_| !model.interface.laws.is_empty())
-    else {
-        return Vec::new();
-    };
-    let mut nodes: Vec<u32> = (0..row.num_facets())
-        .filter(|&c| row.kind[c] == FacetKind::Cohesive)
-        .flat_map(|c| [row.elem_plus[c], row.elem_minus[c]])
-        .flat_map(|e| model.element_nodes(e as usize).as_slice().to_vec())
-        .collect();
-    nodes.sort_unstable();
-    nodes.dedup();
-    nodes
 }
 
 /// Inserts the facets [`check`] listed, in its order, unties twins whose incident facets are all

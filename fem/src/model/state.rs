@@ -344,6 +344,13 @@ pub struct State {
     pub(crate) dashpot_f: Vec<Vector2<f64>>,
 }
 
+/// A facet that reached σ_c at the insertion check: its index in the interface row, then the
+/// traction vector t_q [Pa] and effective stress σ_eff [Pa] at its two Gauss points.
+pub(crate) type Reached = (u32, [(Vector2<f64>, f64); 2]);
+
+/// Nodal forces [N/m] of one cohesive element, on nodes [a⁺, b⁺, a⁻, b⁻] of its facet.
+pub(crate) type ElementForces = [Vector2<f64>; 4];
+
 /// Every buffer of the step, allocated at build.
 #[derive(Debug)]
 pub struct Workspace {
@@ -371,11 +378,11 @@ pub struct Workspace {
     /// Scratch of the one-pass sweep of unsampled steps.
     pub(crate) sweep: crate::model::layers::SweepBuffers,
     /// The facets that reached σ_c at this step's insertion check (capacity: the row's facets).
-    pub(crate) reached: Vec<crate::model::insertion::Reached>,
+    pub(crate) reached: Vec<Reached>,
     /// Each active cohesive element's nodal forces [N/m] of this step, computed beside the bulk
     /// forces and added to `f` after them (capacity: the row's facets).
-    pub(crate) cohesive_forces: Vec<crate::model::cohesive::ElementForces>,
-    /// On a grid with the one-pass sweep, which moves u on in the bulk phase: the nodes the
+    pub(crate) cohesive_forces: Vec<ElementForces>,
+    /// On a grid, whose one-pass sweep moves u on in the bulk phase: the nodes the
     /// insertion check reads (those of the elements on both sides of the cohesive facets, which
     /// hold those the cohesive law reads), sorted; empty elsewhere.
     pub(crate) check_nodes: Vec<u32>,
