@@ -46,14 +46,13 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
     contact_step::prepare(model, state, ws);
     let far_field = absorbing::far_field_accelerates(model, t1);
     let overlap = !sample && !far_field;
-    // (swept, whether f holds the bulk forces, contact): without a one-pass sweep (a Gmsh mesh,
-    // a grid of two materials) the bulk forces themselves run beside the detection. The insertion
-    // check runs there too: it reads which facets are inserted (written only by the insertion)
-    // and u_{n+1}, which the bulk forces only read, and of which the sweep, which moves u on, is
-    // given a copy of the nodes the check reads.
-    // The cohesive law too, after the check on the same thread: it writes the Gauss states, which
-    // neither reads, and its forces are added to f after the bulk forces, as in place.
-    let checked = overlap;
+    // (swept, whether f holds the bulk forces, contact, cohesive work): without a one-pass sweep
+    // (a Gmsh mesh, a grid of two materials) the bulk forces themselves run beside the detection.
+    // After the detection, on its thread, run the insertion check, which reads which facets are
+    // inserted (written only by the insertion) and u_{n+1}, and the cohesive law, which writes
+    // the Gauss states, which neither reads, and whose forces are added to f after the bulk
+    // forces, as in place. The bulk forces only read u_{n+1}; the sweep, which moves it on, leaves
+    // the two a copy of the nodes they read.
     let (swept, forces_done, contact, cohesive_work) = if overlap {
         let (swept, contact, work) = forces_beside_detection(model, state, ws, dt, t1);
         (swept, true, Some(contact), Some(work))
@@ -104,7 +103,7 @@ pub fn step(model: &Model, state: &mut State, ws: &mut Workspace, sample: bool) 
     ws.clock.lap(Phase::Boundary);
     // Insertion reads u_{n+1} only (element stresses next to the interface): it runs before the
     // corrector, whose fused sweep may already move the bulk on to the next step's predictor.
-    if !checked {
+    if !overlap {
         insertion::check(model, &state.facets, &state.u, &mut ws.reached);
     }
     insertion::insert_reached(
