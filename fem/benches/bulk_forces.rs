@@ -2,7 +2,9 @@
 //! - the paper's centre-crack mesh (500 × 250 identical squares, shared K_e, rayon gather);
 //! - the sinusoidal-interface mesh (750 × 250 vertical-sided quads, forces computed on the fly),
 //!   and its kernel alone on one thread (`sinusoid_mapped_750x250_kernel_alone`: the element
-//!   forces of every row, not summed into the nodes);
+//!   forces of every row, not summed into the nodes; `_kernel_cold`: the same after 64 MiB have
+//!   been written over every cache, as the rest of a step does in a run); the same scene with
+//!   elements five times larger (`sinusoid_mapped_150x50`), whose kernel's arrays stay in L2;
 //! - the centre crack's Gmsh triangle mesh (`meshes/center-crack-tri.msh`, 43 138 T3, the
 //!   unstructured kernel in its own node order, with the copies into and out of it);
 //! - the unstructured kernel (`fem::model::unstructured`) on the centre-crack rectangle written
@@ -26,7 +28,25 @@ fn displacements(n: usize) -> Vec<Vector2<f64>> {
 fn bench_scene(c: &mut Criterion, name: &str, scene: &str) {
     let path = format!("{}/../scenes/{scene}", env!("CARGO_MANIFEST_DIR"));
     let scene = fem::Scene::from_file(std::path::Path::new(&path)).unwrap();
-    let (model, _, _) = fem::build(&scene).unwrap();
+    bench_model(c, name, &scene, Kernel::AlsoCold);
+}
+
+/// Which runs of a mapped mesh's kernel alone [`bench_model`] adds to the whole evaluation.
+#[derive(PartialEq)]
+enum Kernel {
+    /// The kernel on arrays left in the caches by the evaluation before.
+    Warm,
+    /// That, and the kernel after every cache has been written over.
+    AlsoCold,
+}
+
+/// Bytes written over between two evaluations of `*_kernel_cold`: twice the 32 MiB last-level
+/// cache of the largest processors measured in docs/performance.md.
+const FLUSH_BYTES: usize = 64 << 20;
+
+/// Benchmarks one f_int evaluation on the mesh of `scene`, and on a mapped mesh its kernel alone.
+fn bench_model(c: &mut Criterion, name: &str, scene: &fem::Scene, kernel: Kernel) {
+    let (model, _, _) = fem::build(scene).unwrap();
     let n = model.num_nodes();
     let u = displacements(n);
     let mut f = vec![Vector2::zeros(); n];
@@ -45,8 +65,40 @@ fn bench_scene(c: &mut Criterion, name: &str, scene: &str) {
                 time_on_awake_pool(iters, || fem::probe::mapped_element_forces(&model, &u, &mut row))
             })
         });
+        // The same after every cache has been written over, as in a run, where the rest of the
+        // step's arrays pass through the caches between two evaluations: only the kernel is timed.
+        if kernel == Kernel::AlsoCold {
+            let mut flush = vec![0u64; FLUSH_BYTES / 8];
+            g.bench_function(format!("{name}_kernel_cold"), |b| {
+                b.iter_custom(|iters| {
+                    let mut timed = std::time::Duration::ZERO;
+                    for k in 0..iters {
+                        flush.fill(k);
+                        std::hint::black_box(&mut flush);
+                        let start = std::time::Instant::now();
+                        std::hint::black_box(fem::probe::mapped_element_forces(&model, &u, &mut row));
+                        timed += start.elapsed();
+                    }
+                    timed
+                })
+            });
+        }
     }
     g.finish();
+}
+
+/// The sinusoidal-interface scene with elements five times larger (150 × 50, 7 500 elements):
+/// its mapped kernel's arrays (about 0.5 MB: 48 B of shapes an element, 16 B a node of u) stay in a
+/// core's L2 cache.
+fn small_sinusoid() -> fem::Scene {
+    let path = format!(
+        "{}/../scenes/sinusoidal-interface.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let text = std::fs::read_to_string(&path).unwrap();
+    let (from, to) = ("element_size = 1e-3 ", "element_size = 5e-3 ");
+    assert!(text.contains(from), "{path}: no `{from}`");
+    fem::Scene::from_toml_str(&text.replacen(from, to, 1)).unwrap()
 }
 
 /// The centre-crack rectangle (0.5 m × 0.25 m, 1 mm squares, nx × ny) as an unstructured mesh:
@@ -130,6 +182,8 @@ fn bench_unstructured(
 fn bench(c: &mut Criterion) {
     bench_scene(c, "center_crack_500x250", "center-crack.toml");
     bench_scene(c, "sinusoid_mapped_750x250", "sinusoidal-interface.toml");
+    // per element against the 750 × 250 mesh, whether the mapped kernel's bytes bind it
+    bench_model(c, "sinusoid_mapped_150x50", &small_sinusoid(), Kernel::Warm);
     bench_scene(c, "center_crack_tri_43138", "center-crack-tri.toml");
     bench_unstructured(c, "unstructured_q4_500x250", (500, 250), false, false);
     // the same kernel on 1 800 squares, whose arrays (about 0.3 MB) stay in a core's L2 cache:
