@@ -3,7 +3,8 @@
 //! - the sinusoidal-interface mesh (750 × 250 vertical-sided quads, forces computed on the fly),
 //!   and its kernel alone on one thread (`sinusoid_mapped_750x250_kernel_alone`: the element
 //!   forces of every row, not summed into the nodes; `_kernel_cold`: the same after 64 MiB have
-//!   been written over every cache, as the rest of a step does in a run); the same scene with
+//!   been written over the caches, as the rest of a step does in a run: every cache of a 32 MiB
+//!   L3); the same scene with
 //!   elements five times larger (`sinusoid_mapped_150x50`), whose kernel's arrays stay in L2;
 //! - the centre crack's Gmsh triangle mesh (`meshes/center-crack-tri.msh`, 43 138 T3, the
 //!   unstructured kernel in its own node order, with the copies into and out of it);
@@ -41,7 +42,8 @@ enum Kernel {
 }
 
 /// Bytes written over between two evaluations of `*_kernel_cold`: twice the 32 MiB last-level
-/// cache of the largest processors measured in docs/performance.md.
+/// cache of the AMD EPYC machines of docs/performance.md (less than the 300 and 480 MiB of the
+/// Intel Xeons there, whose last-level cache it does not empty).
 const FLUSH_BYTES: usize = 64 << 20;
 
 /// Benchmarks one f_int evaluation on the mesh of `scene`, and on a mapped mesh its kernel alone.
