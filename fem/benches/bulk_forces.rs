@@ -4,8 +4,8 @@
 //!   and its kernel alone on one thread (`sinusoid_mapped_750x250_kernel_alone`: the element
 //!   forces of every row, not summed into the nodes; `_kernel_cold`: the same after 64 MiB have
 //!   been written over the caches, as the rest of a step does in a run: every cache of a 32 MiB
-//!   L3); the same scene with
-//!   elements five times larger (`sinusoid_mapped_150x50`), whose kernel's arrays stay in L2;
+//!   L3); the same scene with elements five times larger (`sinusoid_mapped_150x50`), whose
+//!   kernel's arrays stay in L2;
 //! - the centre crack's Gmsh triangle mesh (`meshes/center-crack-tri.msh`, 43 138 T3, the
 //!   unstructured kernel in its own node order, with the copies into and out of it);
 //! - the unstructured kernel (`fem::model::unstructured`) on the centre-crack rectangle written
@@ -93,13 +93,9 @@ fn bench_model(c: &mut Criterion, name: &str, scene: &fem::Scene, kernel: Kernel
 /// its mapped kernel's arrays (about 0.5 MB: 48 B of shapes an element, 16 B a node of u) stay in a
 /// core's L2 cache.
 fn small_sinusoid() -> fem::Scene {
-    let path = format!(
-        "{}/../scenes/sinusoidal-interface.toml",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    let text = std::fs::read_to_string(&path).unwrap();
+    let text = preflight::testing::scene_text(env!("CARGO_MANIFEST_DIR"), "sinusoidal-interface");
     let (from, to) = ("element_size = 1e-3 ", "element_size = 5e-3 ");
-    assert!(text.contains(from), "{path}: no `{from}`");
+    assert!(text.contains(from), "sinusoidal-interface.toml: no `{from}`");
     fem::Scene::from_toml_str(&text.replacen(from, to, 1)).unwrap()
 }
 
