@@ -47,9 +47,9 @@ fn every_step_books_one_lap_per_phase() {
         let beside: f64 = p.beside.iter().sum();
         assert_eq!(beside > 0.0, split, "only the bottom operator runs beside: {p:?}");
         // A lap costs tens of ns. The bound leaves room for the calibration's 10 000 laps to be
-        // preempted for up to 1 s on a loaded machine, and still fails if the whole loop (about
-        // 0.5 ms) were booked as the cost of one lap.
-        assert!(p.lap_cost_s > 0.0 && p.lap_cost_s < 1e-4, "{}", p.lap_cost_s);
+        // preempted for up to 0.5 s on a loaded machine, and still fails if the whole loop (at
+        // least 0.1 ms: 10 ns a lap or more) were booked as the cost of one lap.
+        assert!(p.lap_cost_s > 0.0 && p.lap_cost_s < 5e-5, "{}", p.lap_cost_s);
         // The clock's share of the step is a timing, measured and given in docs/performance.md,
         // not asserted here: on a loaded machine it swings with the load.
         let table = spectral::profile::table(&p, steps, out.stats.grid_points);
