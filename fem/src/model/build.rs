@@ -394,12 +394,27 @@ fn facet_centres(iface: &Option<InterfaceRow>) -> impl Iterator<Item = f64> + '_
     })
 }
 
+/// Whether the grid's y = 0 row is twinned: a pre-crack or an interface exists.
+fn twinned(scene: &Scene) -> bool {
+    scene.crack.is_some() || scene.interface.is_some()
+}
+
+/// Whether a grid of a split `[material]` keeps one K_e a material and with it the stencils and
+/// the one-pass sweep ([`split_bulk`]), read from the scene alone, before anything is built: its
+/// elements are translates of one another (a grid not mapped onto an interface path) and no layer
+/// of nodes touches element rows of both materials (its y = 0 row, where the materials meet, is
+/// twinned). Otherwise it keeps one K_e an element and takes the separate passes. The estimate of a
+/// run prices the two apart (`solver::estimate`).
+pub(crate) fn split_grid_keeps_stencils(scene: &Scene) -> bool {
+    scene.fem.mesh.is_none() && scene.fem.interface_polyline.is_none() && twinned(scene)
+}
+
 /// The structured grid of the scene; the y = 0 row is twinned when a pre-crack or an interface exists.
 fn grid(scene: &Scene, row_map: Option<&dyn Fn(f64) -> f64>) -> Grid {
     let f = &scene.fem;
     let h = f.element_size;
     let jc = scene.interface_row();
-    let twinned = scene.crack.is_some() || scene.interface.is_some();
+    let twinned = twinned(scene);
     Grid::new(&GridSpec {
         x_range: f.x_range,
         y_range: f.y_range,
@@ -750,5 +765,48 @@ mod tests {
         let rel = |a: f64, b: f64| (a / b - 1.0).abs();
         assert!(rel(mp, 2.0 * top.density * h * h / 4.0) < 1e-12, "{mp}");
         assert!(rel(mm, 2.0 * bottom.density * h * h / 4.0) < 1e-12, "{mm}");
+    }
+
+    /// What the scene alone says of a split grid's stiffness (`split_grid_keeps_stencils`, which
+    /// the run's estimate reads) is what the build does: one K_e a material where the y = 0 row
+    /// is twinned on a grid of translates, one K_e an element without the twin (a layer then
+    /// touches both materials) or on a grid mapped onto an interface path.
+    #[test]
+    fn the_scene_tells_whether_a_split_grid_keeps_its_stencils() {
+        use crate::model::bulk::Stiffness;
+        use crate::model::state::BulkMesh;
+        let base = scene_text("tiny-fem-bimaterial-grid");
+        let interface = &base[base.find("[interface]").unwrap()..base.find("[loading]").unwrap()];
+        let cases = [
+            ("twinned at its interface", base.clone(), true),
+            ("no interface and no crack", base.replace(interface, ""), false),
+            (
+                "mapped onto a path",
+                base.replace(
+                    "[fem]\n",
+                    "[fem]\ninterface_polyline = [[-0.03, 0.0], [0.0, 0.004], [0.03, 0.0]]\n",
+                ),
+                false,
+            ),
+        ];
+        for (what, text, keeps) in cases {
+            let dir = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes"));
+            let scene = Scene::from_toml_str_in(&text, dir).unwrap_or_else(|e| panic!("{what}: {e}"));
+            assert!(scene.bottom_material.is_some(), "{what}");
+            let (model, _, _) = super::build(&scene).unwrap();
+            let by_row = matches!(
+                model.bulk.mesh,
+                BulkMesh::Grid {
+                    stiffness: Stiffness::ByRow(_),
+                    ..
+                }
+            );
+            assert_eq!(by_row, keeps, "{what}: built");
+            assert_eq!(
+                super::split_grid_keeps_stencils(&scene),
+                keeps,
+                "{what}: from the scene"
+            );
+        }
     }
 }

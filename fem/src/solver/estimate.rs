@@ -45,9 +45,14 @@ const GMSH_SECONDS_PER_ELEMENT_STEP: f64 = 1e-8;
 /// kind side by side"): 2.0e-8.
 const MAPPED_SECONDS_PER_ELEMENT_STEP: f64 = 2e-8;
 
-/// The same on a grid of two materials (a split `[material]`): one stored K_e per element and the
-/// separate passes [s]; priced as the mapped meshes were before their sweep (2.9e-8, rounded up),
-/// not measured on its own.
+/// The same on a grid of two materials (a split `[material]`) that keeps one K_e an element and
+/// takes the separate passes (its y = 0 row not twinned, or mapped onto an interface path) [s];
+/// priced as the mapped meshes were before their sweep (2.9e-8, rounded up), not measured on its
+/// own. A split grid that keeps one K_e a material (`model::build::split_grid_keeps_stencils`)
+/// takes the stencils and the one-pass sweep of one material and is priced as it is
+/// ([`SECONDS_PER_ELEMENT_STEP`]): `scenes/bimaterial-crack.toml` (15 705 steps, 125 000 elements)
+/// ran in 9.2 s on one thread (4.7e-9), the centre crack of one material in 10.2 s (6.2e-9), on
+/// the fifth machine of docs/performance.md.
 const PER_ELEMENT_SECONDS_PER_ELEMENT_STEP: f64 = 3e-8;
 
 /// Wall time per element and step on 2 cores while the far field's ramps accelerate and its body
@@ -177,7 +182,7 @@ pub fn estimate(scene: &Scene) -> Estimate {
     let h = f.element_size;
     let per_element_step = if f.mesh.is_some() {
         GMSH_SECONDS_PER_ELEMENT_STEP
-    } else if scene.bottom_material.is_some() {
+    } else if scene.bottom_material.is_some() && !crate::model::build::split_grid_keeps_stencils(scene) {
         PER_ELEMENT_SECONDS_PER_ELEMENT_STEP
     } else if f.interface_polyline.is_some() {
         MAPPED_SECONDS_PER_ELEMENT_STEP
@@ -341,6 +346,33 @@ mod tests {
         // about 1.6e10 element-steps at 1e-8 s: the run measured 6–10 s on two machines
         let element_steps = e.steps as f64 * elements as f64;
         assert!((e.seconds - element_steps * GMSH_SECONDS_PER_ELEMENT_STEP).abs() < 1e-9 * e.seconds);
+    }
+
+    /// A split `[material]` is priced by the path its build takes: with its y = 0 row twinned the
+    /// grid keeps the stencils and the sweep of one material (the structured grid's rate, where a
+    /// price of one K_e an element made `scenes/bimaterial-crack.toml` about 59 s on two cores
+    /// against 9.2 s measured on one thread); without the twin, one K_e an element.
+    #[test]
+    fn a_split_grid_is_priced_by_the_path_its_build_takes() {
+        let text = crate::test_scenes::scene_text("tiny-fem-bimaterial-grid");
+        let interface = &text[text.find("[interface]").unwrap()..text.find("[loading]").unwrap()];
+        let dir = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes"));
+        for (body, rate) in [
+            (text.clone(), SECONDS_PER_ELEMENT_STEP),
+            (text.replace(interface, ""), PER_ELEMENT_SECONDS_PER_ELEMENT_STEP),
+        ] {
+            let scene = Scene::from_toml_str_in(&body, dir).unwrap();
+            let e = estimate(&scene);
+            let steps = e.steps as f64;
+            let far = far_field_steps(&scene);
+            let want = (steps * rate + far * (FAR_FIELD_SECONDS_PER_ELEMENT_STEP - rate).max(0.0))
+                * bulk(&scene).elements;
+            assert!(
+                (e.seconds - want).abs() < 1e-9 * want,
+                "{} s against {want} s",
+                e.seconds
+            );
+        }
     }
 
     #[test]
