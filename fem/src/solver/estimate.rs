@@ -40,10 +40,11 @@ const GMSH_SECONDS_PER_ELEMENT_STEP: f64 = 1e-8;
 /// The same on a mesh mapped onto an interface polyline (`fem.interface_polyline` or a sine
 /// interface: every element its own shape, its forces computed on the fly in the one-pass sweep)
 /// [s]: 2.9e-8 was measured on the sinusoidal interface (750 × 250, 14 632 steps, 80 s on 2
-/// threads for either model) when those meshes took the separate passes; the sweep ran the same
-/// run 1.47 times faster on a second machine (93.1 s → 63.5 s, docs/performance.md, "Every mesh
-/// kind side by side"): 2.0e-8.
-const MAPPED_SECONDS_PER_ELEMENT_STEP: f64 = 2e-8;
+/// threads for either model) when those meshes took the separate passes. With the sweep and the
+/// mapped kernel's eight lanes, on the fifth machine of docs/performance.md (2 cores, AVX-512):
+/// `fem scenes/sinusoidal-interface.toml` 21.5 s (7.8e-9), `fem scenes/rough-interface.toml`
+/// 13.0 s (8712 steps, 8.0e-9); rounded up.
+const MAPPED_SECONDS_PER_ELEMENT_STEP: f64 = 1e-8;
 
 /// The same on a grid of two materials (a split `[material]`) that keeps one K_e an element and
 /// takes the separate passes (its y = 0 row not twinned, or mapped onto an interface path) [s];
