@@ -52,8 +52,8 @@ const MAPPED_SECONDS_PER_ELEMENT_STEP: f64 = 1e-8;
 /// own. A split grid that keeps one K_e a material (`model::build::split_grid_keeps_stencils`)
 /// takes the stencils and the one-pass sweep of one material and is priced as it is
 /// ([`SECONDS_PER_ELEMENT_STEP`]): `scenes/bimaterial-crack.toml` (15 705 steps, 125 000 elements)
-/// ran in 9.2 s on one thread (4.7e-9), the centre crack of one material in 10.2 s (6.2e-9), on
-/// the fifth machine of docs/performance.md.
+/// ran in 8.4 s on two threads (4.3e-9) and 9.2 s on one (4.7e-9), the centre crack of one
+/// material in 10.2 s on one (6.2e-9), on the fifth machine of docs/performance.md.
 const PER_ELEMENT_SECONDS_PER_ELEMENT_STEP: f64 = 3e-8;
 
 /// Wall time per element and step on 2 cores while the far field's ramps accelerate and its body
