@@ -215,9 +215,22 @@ impl ContactState {
         }
     }
 
-    /// Number of nodes of the mesh.
-    pub fn num_nodes(&self) -> usize {
-        self.place.len()
+    /// The nodes of N_det with their states, in increasing node id whatever the order of N_det:
+    /// the order of a sum over the mesh's nodes. It skips the mesh's nodes sixteen at a time
+    /// where none is in N_det, so a record step does not visit every node one by one.
+    pub fn in_node_order(&self) -> impl Iterator<Item = (usize, &NodeContact)> {
+        const BLOCK: usize = 16;
+        self.place
+            .chunks(BLOCK)
+            .enumerate()
+            .filter(|(_, block)| block.iter().any(|&k| k != u32::MAX))
+            .flat_map(move |(b, block)| {
+                block
+                    .iter()
+                    .enumerate()
+                    .filter(|&(_, &k)| k != u32::MAX)
+                    .map(move |(j, &k)| (b * BLOCK + j, &self.nodes[k as usize]))
+            })
     }
 
     /// Gives the nodes of N_det that joined it since the last call (the tail of `nodes`) their

@@ -332,3 +332,28 @@ fn a_face_that_joins_later_gets_the_state_of_one_there_from_the_start() {
         assert_eq!(pass_grown.f[n], pass_whole.f[n], "node {n}");
     }
 }
+
+/// The nodes of N_det come out in increasing node id, each with its own state, whatever the
+/// order in which they joined it: at the first and last node of a block of the scan, in a block
+/// of its own, and at the mesh's last node. It fails if the ids are offset within or across
+/// blocks, if a node is skipped, or if N_det's own order is given.
+#[test]
+fn the_nodes_of_n_det_come_in_node_order_with_their_states() {
+    let num_nodes = 70;
+    let mut state = ContactState::new(num_nodes, 8);
+    let joined = [47u32, 15, 16, 3, 69, 31, 32];
+    state.admit(&joined[..4]);
+    state.admit(&joined);
+    for (k, &n) in joined.iter().enumerate() {
+        state.nodes[state.place[n as usize] as usize].area = k as f64;
+    }
+    let got: Vec<(usize, f64)> = state.in_node_order().map(|(n, c)| (n, c.area)).collect();
+    let mut want: Vec<(usize, f64)> = joined
+        .iter()
+        .enumerate()
+        .map(|(k, &n)| (n as usize, k as f64))
+        .collect();
+    want.sort_by_key(|&(n, _)| n);
+    assert_eq!(got, want);
+    assert_eq!(ContactState::new(num_nodes, 8).in_node_order().count(), 0);
+}

@@ -42,9 +42,8 @@ fn contact_stored(model: &Model, state: &State) -> f64 {
     };
     let c = &cp.state;
     let w = crate::contact::AVERAGING_WEIGHT;
-    // in node order, whatever the order of N_det
-    (0..c.num_nodes())
-        .map(|i| c.at(i))
+    c.in_node_order()
+        .map(|(_, n)| n)
         .filter(|n| n.in_contact)
         .map(|n| {
             let t = n.tangential_traction;
@@ -59,8 +58,7 @@ pub(crate) fn friction_records(model: &Model, state: &State) -> Vec<crate::recor
         return Vec::new();
     };
     let c = &cp.state;
-    (0..c.num_nodes())
-        .map(|i| (i, c.at(i)))
+    c.in_node_order()
         .filter(|(_, n)| n.friction_work != 0.0 || n.coulomb_work != 0.0)
         .map(|(i, n)| crate::records::FrictionRecord {
             x: model.bulk.x0[i].x,
