@@ -11,6 +11,10 @@ pub(crate) const PARTS: usize = 64;
 /// Parts summed side by side by one task: each part's sum is a chain of dependent adds, so one
 /// part at a time waits on the adder's latency at every term; eight chains keep it busy.
 const INTERLEAVED: usize = 8;
+const _: () = assert!(
+    PARTS % INTERLEAVED == 0,
+    "every task takes a whole group of parts"
+);
 
 /// Σ_{i < n} term(i), in an order that depends only on n: each of the [`PARTS`] parts summed in
 /// order from the value of an empty `sum()`, then the partial sums added in order. A task takes
@@ -21,18 +25,20 @@ pub(crate) fn ordered_sum(n: usize, term: impl Fn(usize) -> f64 + Sync) -> f64 {
     let size = n.div_ceil(PARTS).max(1);
     let range = |c: usize| (c * size).min(n)..((c + 1) * size).min(n);
     partials
-        .par_chunks_mut(INTERLEAVED)
+        .par_chunks_exact_mut(INTERLEAVED)
         .enumerate()
         .for_each(|(g, group)| {
             let first = g * INTERLEAVED;
             // the terms every part of the group has, a term of each part in turn
-            let common = (0..group.len())
+            let common = (0..INTERLEAVED)
                 .map(|q| range(first + q).len())
                 .min()
                 .unwrap_or(0);
             let mut sums = [std::iter::empty::<f64>().sum::<f64>(); INTERLEAVED];
+            // a loop of constant length, so that the sums stay in registers: over the group's
+            // length, unknown to the compiler, they went through the stack at every term
             for k in 0..common {
-                for (q, s) in sums[..group.len()].iter_mut().enumerate() {
+                for (q, s) in sums.iter_mut().enumerate() {
                     *s += term((first + q) * size + k);
                 }
             }
