@@ -12,7 +12,7 @@ pub(crate) const PARTS: usize = 64;
 /// part at a time waits on the adder's latency at every term; eight chains keep it busy.
 const INTERLEAVED: usize = 8;
 const _: () = assert!(
-    PARTS % INTERLEAVED == 0,
+    PARTS.is_multiple_of(INTERLEAVED),
     "every task takes a whole group of parts"
 );
 
