@@ -1,9 +1,10 @@
 //! Independent runs at the same time. A run's time loop is memory-bound and its parallel parts
 //! scale below the core count, so k runs side by side on n/k cores each often finish sooner than
 //! the same runs one after the other on all n cores: the comparison's spectral runs gain little
-//! from a second core. Runs that scale well and share a last-level cache too small for both (the
-//! FE runs on a mapped mesh) can finish sooner one after the other, which `--concurrent-runs 1`
-//! chooses (measured both ways in docs/performance.md, "The comparison and the other jobs").
+//! from a second core. Runs that gain well from a second core and slow each other side by side
+//! (the FE runs on a mapped mesh) can finish sooner one after the other, which
+//! `--concurrent-runs 1` chooses (measured both ways in docs/performance.md, "The comparison and
+//! the other jobs").
 //! Each lane is an OS thread with its own rayon pool; the runs' results do not depend on the pool
 //! size (both models are bit-identical on any number of threads), so running concurrently
 //! changes wall time only.
