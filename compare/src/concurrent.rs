@@ -2,9 +2,9 @@
 //! scale below the core count, so k runs side by side on n/k cores each often finish sooner than
 //! the same runs one after the other on all n cores: the comparison's spectral runs gain little
 //! from a second core. Runs that gain well from a second core and slow each other side by side
-//! (the FE runs on a mapped mesh) can finish sooner one after the other, which
-//! `--concurrent-runs 1` chooses (measured both ways in docs/performance.md, "The comparison and
-//! the other jobs").
+//! (the FE runs on a mapped mesh) finish sooner one after the other, each on two cores, which
+//! their jobs choose by default ([`Lanes::for_fe`]; measured both ways in docs/performance.md,
+//! "The comparison and the other jobs"). `--concurrent-runs` overrides either default.
 //! Each lane is an OS thread with its own rayon pool; the runs' results do not depend on the pool
 //! size (both models are bit-identical on any number of threads), so running concurrently
 //! changes wall time only.
@@ -32,6 +32,24 @@ impl Lanes {
             lanes,
             threads: (cores / lanes).max(1),
         }
+    }
+
+    /// As [`Lanes::new`] for a job of FE runs only, `scenes`: unless asked otherwise, one run per
+    /// two cores when every run finishes sooner on two cores than sharing them
+    /// ([`fem::runs_best_on_two_cores`]: the mapped meshes), so on 2 cores one after the other;
+    /// else one per core.
+    pub fn for_fe<'s>(
+        scenes: impl IntoIterator<Item = &'s fem::Scene>,
+        cores: usize,
+        requested: Option<usize>,
+    ) -> Lanes {
+        let (mut jobs, mut two_cores) = (0, true);
+        for scene in scenes {
+            jobs += 1;
+            two_cores &= fem::runs_best_on_two_cores(scene);
+        }
+        let default = (two_cores && jobs > 0).then(|| (cores / 2).max(1));
+        Lanes::new(jobs, cores, requested.or(default))
     }
 }
 
@@ -144,6 +162,41 @@ mod tests {
         assert_eq!(Lanes::new(1, 8, None), Lanes { lanes: 1, threads: 8 });
         assert_eq!(Lanes::new(4, 2, Some(1)), Lanes { lanes: 1, threads: 2 });
         assert_eq!(Lanes::new(4, 2, Some(9)), Lanes { lanes: 4, threads: 1 });
+    }
+
+    /// A job of runs on mapped meshes takes two cores a run; any other run keeps one per core.
+    #[test]
+    fn fe_runs_on_mapped_meshes_get_two_cores_each() {
+        let scene = |name: &str| {
+            let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("../scenes")
+                .join(name);
+            crate::study::Study::load(&path).unwrap().fem
+        };
+        let (sine, rough, flat) = (
+            scene("sinusoidal-interface.toml"),
+            scene("rough-interface.toml"),
+            scene("center-crack.toml"),
+        );
+        let one = |threads| Lanes { lanes: 1, threads };
+        assert_eq!(Lanes::for_fe([&sine, &sine], 2, None), one(2));
+        assert_eq!(Lanes::for_fe([&rough, &rough], 2, None), one(2));
+        assert_eq!(
+            Lanes::for_fe([&sine, &rough], 8, None),
+            Lanes { lanes: 2, threads: 4 }
+        );
+        assert_eq!(Lanes::for_fe([&sine, &sine, &sine], 1, None), one(1));
+        // a structured run among them, or a request, keeps the cores shared as before
+        assert_eq!(
+            Lanes::for_fe([&sine, &flat], 2, None),
+            Lanes { lanes: 2, threads: 1 }
+        );
+        assert_eq!(Lanes::for_fe([&flat; 3], 2, None), Lanes { lanes: 2, threads: 1 });
+        assert_eq!(
+            Lanes::for_fe([&sine, &sine], 2, Some(2)),
+            Lanes { lanes: 2, threads: 1 }
+        );
+        assert_eq!(Lanes::for_fe([], 2, None), Lanes::new(0, 2, None));
     }
 
     #[test]

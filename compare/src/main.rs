@@ -44,7 +44,8 @@ struct Common {
     #[command(flatten)]
     budget: preflight::options::BudgetOptions,
     /// How many of a comparison's independent runs go at once, the cores shared out between them
-    /// (default: one per core; 1 runs them one after the other, each on every core).
+    /// (default: one per core, but one per two cores for FE runs on mapped meshes, as `sinusoid`
+    /// and `rough`, which finish sooner so; 1 runs them one after the other, each on every core).
     #[arg(long, global = true, value_name = "N", allow_negative_numbers = true,
           value_parser = clap::value_parser!(u32).range(1..))]
     concurrent_runs: Option<u32>,

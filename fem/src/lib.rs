@@ -21,8 +21,9 @@
 //! - [`output`] (CSV and ParaView files; the only module that writes files).
 //!
 //! # Public surface
-//! - running a scene: [`Scene`], [`estimate`], [`run`], [`run_with_progress`],
-//!   [`run_with_fields`], and [`ended`] (how a run ended, as `preflight::RunEnded`);
+//! - running a scene: [`Scene`], [`estimate`], [`runs_best_on_two_cores`], [`run`],
+//!   [`run_with_progress`], [`run_with_fields`], and [`ended`] (how a run ended, as
+//!   `preflight::RunEnded`);
 //! - stepping by hand: [`build`], [`build_with_row_map`], [`step`], [`Model`], [`State`],
 //!   [`Workspace`];
 //! - results: [`RunOutput`] and its records, [`write_csv`], [`ParaviewWriter`] (a
@@ -70,5 +71,5 @@ pub use records::{
 pub use scene::Scene;
 pub use scene::write_msh::grid_as_msh;
 pub use solver::central_difference::step;
-pub use solver::estimate::estimate;
+pub use solver::estimate::{estimate, runs_best_on_two_cores};
 pub use solver::run::{ended, run, run_checkpointed, run_with_fields, run_with_progress};

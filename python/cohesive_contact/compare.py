@@ -114,7 +114,8 @@ class Comparison:
     ``out``: the folder of every file (tips, metrics, both models' outputs, figures), as the
     command line's ``--out``; without it they go to a temporary folder removed on return.
     ``friction_rule``: "all_faces" or "failed_only" in both models (``--friction-rule``).
-    ``concurrent_runs``: runs side by side (default one per core). The scene and every run's
+    ``concurrent_runs``: runs side by side (default one per core; one per two cores for FE runs
+    on mapped meshes, as in ``sinusoid`` and ``rough``). The scene and every run's
     budget (``max_memory_gib`` [GiB], ``max_steps``) are checked before the first run; Ctrl-C
     stops the runs and raises ``KeyboardInterrupt``. ``progress`` as for ``fem.run``, over every
     run's steps.

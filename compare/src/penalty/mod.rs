@@ -63,7 +63,11 @@ pub fn run_study(study: &Study, factors: &[u32], dir: &Path, rep: &dyn Reporter)
         .zip(&plans)
         .map(|(l, (_, s))| (l.as_str(), s))
         .collect();
-    let lanes = Lanes::new(plans.len(), rayon::current_num_threads(), study.concurrent_runs);
+    let lanes = Lanes::for_fe(
+        plans.iter().map(|(_, s)| s),
+        rayon::current_num_threads(),
+        study.concurrent_runs,
+    );
     // the folder stays locked against other runs until the study returns, its files written
     let (plan, _held) = preflight(study, &fems, &[], dir)?;
     rep.planned(&plan.with_lanes(lanes));

@@ -54,7 +54,11 @@ pub fn run_study(study: &Study, dir: &Path, rep: &dyn Reporter) -> Result<Sinuso
         })
         .collect::<Result<Vec<_>>>()?;
     let fems: Vec<(&str, &fem::Scene)> = scenes.iter().map(|(l, s)| (*l, s)).collect();
-    let lanes = Lanes::new(scenes.len(), rayon::current_num_threads(), study.concurrent_runs);
+    let lanes = Lanes::for_fe(
+        scenes.iter().map(|(_, s)| s),
+        rayon::current_num_threads(),
+        study.concurrent_runs,
+    );
     // the folder stays locked against other runs until the study returns, its files written
     let (plan, _held) = preflight(study, &fems, &[], dir)?;
     rep.planned(&plan.with_lanes(lanes));

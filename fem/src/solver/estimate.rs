@@ -177,18 +177,53 @@ fn elements(scene: &Scene) -> (f64, f64) {
     )
 }
 
+/// The bulk kernel a scene's mesh takes, as far as its time and its sharing of the cores go.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kernel {
+    /// A Gmsh mesh.
+    Gmsh,
+    /// A grid of two materials that keeps one K_e an element (the separate passes).
+    PerElement,
+    /// A grid mapped onto an interface polyline or a sine (the mapped kernel).
+    Mapped,
+    /// The structured grid's stencils.
+    Structured,
+}
+
+fn kernel(scene: &Scene) -> Kernel {
+    let f = &scene.fem;
+    if f.mesh.is_some() {
+        Kernel::Gmsh
+    } else if scene.bottom_material.is_some() && !crate::model::build::split_grid_keeps_stencils(scene) {
+        Kernel::PerElement
+    } else if f.interface_polyline.is_some() {
+        Kernel::Mapped
+    } else {
+        Kernel::Structured
+    }
+}
+
+/// Whether runs of `scene` finish sooner one after the other, each on two cores, than two at a
+/// time on one core each: true on a mesh mapped onto an interface (the mapped kernel). Measured on
+/// 2 cores of an AMD EPYC with 32 MiB of L3 (docs/performance.md, "The comparison and the other
+/// jobs"): such a run takes 1.79 times as long on one core as on two, and two side by side took a
+/// third longer each again (`compare -- sinusoid` 46.9–47.1 s side by side against 37.0–38.2 s
+/// one after the other, `compare -- rough` 27.4–29.6 against 19.3–20.5 s). Runs on the structured
+/// grid came out even (`compare -- penalty` 20.8–21.5 against 20.2–22.7 s), so they keep sharing
+/// the cores; the other kernels were not measured this way and keep it too.
+pub fn runs_best_on_two_cores(scene: &Scene) -> bool {
+    kernel(scene) == Kernel::Mapped
+}
+
 /// Steps and memory of a run of `scene` (docs/outputs.md, "Budgets").
 pub fn estimate(scene: &Scene) -> Estimate {
     let f = &scene.fem;
     let h = f.element_size;
-    let per_element_step = if f.mesh.is_some() {
-        GMSH_SECONDS_PER_ELEMENT_STEP
-    } else if scene.bottom_material.is_some() && !crate::model::build::split_grid_keeps_stencils(scene) {
-        PER_ELEMENT_SECONDS_PER_ELEMENT_STEP
-    } else if f.interface_polyline.is_some() {
-        MAPPED_SECONDS_PER_ELEMENT_STEP
-    } else {
-        SECONDS_PER_ELEMENT_STEP
+    let per_element_step = match kernel(scene) {
+        Kernel::Gmsh => GMSH_SECONDS_PER_ELEMENT_STEP,
+        Kernel::PerElement => PER_ELEMENT_SECONDS_PER_ELEMENT_STEP,
+        Kernel::Mapped => MAPPED_SECONDS_PER_ELEMENT_STEP,
+        Kernel::Structured => SECONDS_PER_ELEMENT_STEP,
     };
     let (nx, ny) = elements(scene);
     let dt = scene.time_step();
