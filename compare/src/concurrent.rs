@@ -1,7 +1,8 @@
 //! Independent runs at the same time. A run's time loop is memory-bound and its parallel parts
 //! scale below the core count, so k runs side by side on n/k cores each often finish sooner than
-//! the same runs one after the other on all n cores: the comparison's spectral runs gain little
-//! from a second core. Runs that gain well from a second core and slow each other side by side
+//! the same runs one after the other on all n cores: on 2 cores the comparison's runs gain 1.5
+//! (spectral) to 1.7 (FE) times from a second core and barely slow each other side by side
+//! (docs/performance.md). Runs that gain well from a second core and slow each other side by side
 //! (the FE runs on a mapped mesh) finish sooner one after the other, each on two cores, which
 //! their jobs choose by default ([`Lanes::for_fe`]; measured both ways in docs/performance.md,
 //! "The comparison and the other jobs"). `--concurrent-runs` overrides either default.
