@@ -190,6 +190,7 @@ enum Kernel {
     Structured,
 }
 
+/// The bulk kernel of `scene`'s mesh, as the estimates price it.
 fn kernel(scene: &Scene) -> Kernel {
     let f = &scene.fem;
     if f.mesh.is_some() {
