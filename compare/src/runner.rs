@@ -82,8 +82,11 @@ pub fn preflight(
 }
 
 /// Wall time of a run on one core over its time on two [-]: 1.45 for the FE centre crack at
-/// paper resolution (11.3 s against 7.8 s), 1.06 for the spectral one (5.0 s against 4.7 s); the
-/// larger, so that side-by-side estimates err long (docs/performance.md).
+/// paper resolution (11.3 s against 7.8 s), 1.06 for the spectral one (5.0 s against 4.7 s), when
+/// it was set; the larger, so that side-by-side estimates err long (docs/performance.md). Later
+/// code gains more from a second core (1.70 and 1.53 on a 2-core AMD EPYC on 2026-12-04), but the
+/// runs' own estimates err long by more than that (there `compare` was estimated at about 18 s and
+/// took 14.0 s), so the factor was left as it was.
 pub const ONE_CORE_SLOWDOWN: f64 = 1.45;
 
 /// The runs of a study, once checked.
