@@ -1,16 +1,15 @@
 //! The machine's ceilings for the FE step (its roofline), measured here:
-//! - `fma_peak`: fused multiply-adds per second on one core, from 16 independent 8-wide chains
-//!   (AVX-512 when the CPU has it, else AVX2; the portable build otherwise). Throughput is
-//!   reported in FMA lanes (elements): flops = 2 × elements.
+//! - `fma_peak`: fused multiply-adds per second on one core, from independent chains x ← x·a + b
+//!   (16 of 8 lanes with AVX-512; 12 of 4 lanes with AVX2, whose 16 registers hold no more
+//!   beside the two constants; 16 of one lane in the portable build). Throughput is reported in
+//!   FMA lanes (elements): flops = 2 × elements.
 //! - `fma_peak_all_cores`: the same chains on every thread of the pool at once, counted over all
 //!   of them: divided by its rate on one thread (`RAYON_NUM_THREADS=1`), the number of cores whose
 //!   arithmetic the machine gives.
-//! - `mul_peak`: multiplies per second on one core, from 16 independent 8-wide chains
-//!   x ← (x·a)·b (as for `fma_peak`), reported in multiply lanes: the ceiling of the mapped
-//!   kernel, bound by its multiplies.
-//! - `div_peak`: divisions per second on one core, from 16 independent 8-wide chains x ← x / a
-//!   (AVX-512, AVX2 or the portable build, as for `fma_peak`), reported in division lanes: the
-//!   ceiling of the node update, whose a = f/m takes two divisions a node.
+//! - `mul_peak`: multiplies per second on one core, from as many chains x ← (x·a)·b, reported in
+//!   multiply lanes: the ceiling of the mapped kernel's multiplies, fused or not.
+//! - `div_peak`: divisions per second on one core, from as many chains x ← x / a, reported in
+//!   division lanes: the ceiling of the node update, whose a = f/m takes two divisions a node.
 //! - `core_to_core_round_trip`: one round trip of a cache line between two threads, which every
 //!   hand-over of data from one core to the other pays.
 //! - `triad`: a[i] = b[i] + s c[i] (the STREAM triad, 3 × 8 B per element moved, reported in
@@ -28,33 +27,49 @@ use std::hint::black_box;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
+/// Independent chains of the AVX-512 and portable builds: enough to keep two pipes of a
+/// four-cycle latency busy, and held in registers (AVX-512 has 32).
 const CHAINS: usize = 16;
+/// Independent chains of the AVX2 builds: AVX2 has 16 registers, and 16 chains with their two
+/// constants sent two or three chains through the stack each round (seen in the disassembly),
+/// which timed the stack's round trips, not the arithmetic. Twelve chains and two constants fit;
+/// twelve still exceed the eight a four-cycle latency needs on two pipes.
+const CHAINS_AVX2: usize = 12;
 const ROUNDS: usize = 4096;
 
-/// FMA lanes one call of [`fma`] executes: 16 independent chains of `ROUNDS` x ← x·a + b each,
-/// on the widest vectors the CPU has (8, 4 or 1 lanes).
+/// FMA lanes one call of [`fma`] executes: independent chains ([`CHAINS`], or [`CHAINS_AVX2`]) of
+/// `ROUNDS` x ← x·a + b each, on the widest vectors the CPU has (8, 4 or 1 lanes).
 fn fma_lanes() -> usize {
+    lanes(true)
+}
+
+/// Vector lanes of all chains of one round-trip-free call, `ROUNDS` steps each: the builds chosen
+/// as [`fma`] chooses them (`fused`) or as [`mul`] and [`div`] do (AVX2 without FMA).
+fn lanes(fused: bool) -> usize {
     #[cfg(target_arch = "x86_64")]
     {
         if std::arch::is_x86_feature_detected!("avx512f") {
             return CHAINS * ROUNDS * 8;
         }
-        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
-            return CHAINS * ROUNDS * 4;
+        if std::arch::is_x86_feature_detected!("avx2")
+            && (!fused || std::arch::is_x86_feature_detected!("fma"))
+        {
+            return CHAINS_AVX2 * ROUNDS * 4;
         }
     }
+    let _ = fused;
     CHAINS * ROUNDS
 }
 
-/// `CHAINS` independent chains of `ROUNDS` steps x ← `$step` (x the chain's vector, starting at
+/// `$chains` independent chains of `ROUNDS` steps x ← `$step` (x the chain's vector, starting at
 /// 1), summed: the SIMD builds of the peaks below.
 #[cfg(target_arch = "x86_64")]
 macro_rules! chains {
-    ($features:literal, $name:ident($($arg:ident),*), $one:expr, |$x:ident| $step:expr, $sum:expr) => {
+    ($features:literal, $chains:expr, $name:ident($($arg:ident),*), $one:expr, |$x:ident| $step:expr, $sum:expr) => {
         #[target_feature(enable = $features)]
         fn $name($($arg: f64),*) -> f64 {
             use std::arch::x86_64::*;
-            let mut x = [$one; CHAINS];
+            let mut x = [$one; $chains];
             for _ in 0..ROUNDS {
                 for $x in x.iter_mut() {
                     *$x = $step;
@@ -78,6 +93,7 @@ fn sum256(v: &std::arch::x86_64::__m256d) -> f64 {
 #[cfg(target_arch = "x86_64")]
 chains!(
     "avx512f",
+    CHAINS,
     fma_avx512(a, b),
     _mm512_set1_pd(1.0),
     |x| _mm512_fmadd_pd(*x, _mm512_set1_pd(a), _mm512_set1_pd(b)),
@@ -86,6 +102,7 @@ chains!(
 #[cfg(target_arch = "x86_64")]
 chains!(
     "avx2,fma",
+    CHAINS_AVX2,
     fma_avx2(a, b),
     _mm256_set1_pd(1.0),
     |x| _mm256_fmadd_pd(*x, _mm256_set1_pd(a), _mm256_set1_pd(b)),
@@ -94,6 +111,7 @@ chains!(
 #[cfg(target_arch = "x86_64")]
 chains!(
     "avx512f",
+    CHAINS,
     mul_avx512(a, b),
     _mm512_set1_pd(1.0),
     |x| _mm512_mul_pd(_mm512_mul_pd(*x, _mm512_set1_pd(a)), _mm512_set1_pd(b)),
@@ -102,6 +120,7 @@ chains!(
 #[cfg(target_arch = "x86_64")]
 chains!(
     "avx2",
+    CHAINS_AVX2,
     mul_avx2(a, b),
     _mm256_set1_pd(1.0),
     |x| _mm256_mul_pd(_mm256_mul_pd(*x, _mm256_set1_pd(a)), _mm256_set1_pd(b)),
@@ -110,6 +129,7 @@ chains!(
 #[cfg(target_arch = "x86_64")]
 chains!(
     "avx512f",
+    CHAINS,
     div_avx512(a),
     _mm512_set1_pd(1.0),
     |x| _mm512_div_pd(*x, _mm512_set1_pd(a)),
@@ -118,6 +138,7 @@ chains!(
 #[cfg(target_arch = "x86_64")]
 chains!(
     "avx2",
+    CHAINS_AVX2,
     div_avx2(a),
     _mm256_set1_pd(1.0),
     |x| _mm256_div_pd(*x, _mm256_set1_pd(a)),
@@ -150,10 +171,9 @@ fn fma(a: f64, b: f64) -> f64 {
     portable(|v| v.mul_add(a, b))
 }
 
-/// 16 independent chains of `ROUNDS` steps x ← (x · a) · b on the widest vectors the CPU has:
-/// twice as many multiply lanes as [`fma_lanes`] counts FMA lanes (the kernels use separate
-/// multiplies and adds, no fused ones). Two multiplies a step: with one, the compiler rotated
-/// the chains through registers and the stack, and timed that instead.
+/// Independent chains of `ROUNDS` steps x ← (x · a) · b on the widest vectors the CPU has:
+/// 2 [`lanes`]`(false)` multiply lanes. Two multiplies a step: with one, the compiler rotated the
+/// chains through registers and the stack, and timed that instead.
 fn mul(a: f64, b: f64) -> f64 {
     #[cfg(target_arch = "x86_64")]
     {
@@ -169,8 +189,8 @@ fn mul(a: f64, b: f64) -> f64 {
     portable(|v| v * a * b)
 }
 
-/// 16 independent chains of `ROUNDS` divisions x ← x / a on the widest vectors the CPU has:
-/// as many division lanes as [`fma_lanes`] counts FMA lanes.
+/// Independent chains of `ROUNDS` divisions x ← x / a on the widest vectors the CPU has:
+/// [`lanes`]`(false)` division lanes.
 fn div(a: f64) -> f64 {
     #[cfg(target_arch = "x86_64")]
     {
@@ -192,11 +212,11 @@ fn bench_fma(c: &mut Criterion) {
     g.bench_function("fma_peak_one_core", |bch| {
         bch.iter(|| fma(black_box(0.999_999), black_box(1e-9)))
     });
-    g.throughput(Throughput::Elements(2 * fma_lanes() as u64));
+    g.throughput(Throughput::Elements(2 * lanes(false) as u64));
     g.bench_function("mul_peak_one_core", |bch| {
         bch.iter(|| mul(black_box(0.999_999), black_box(1.000_001)))
     });
-    g.throughput(Throughput::Elements(fma_lanes() as u64));
+    g.throughput(Throughput::Elements(lanes(false) as u64));
     g.bench_function("div_peak_one_core", |bch| {
         bch.iter(|| div(black_box(1.000_000_1)))
     });
